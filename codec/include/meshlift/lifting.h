@@ -1,0 +1,72 @@
+// Lifting wavelet transforms on a semi-regular hierarchy (CODEC-NOTES §2-4, seed 003 §5.4).
+// Each level's transform is a short list of lifting steps; each step is a precomputed table
+// (compressed rows of indices and weights) built once from the connectivity. analyze() and
+// synthesize() are tight loops over these tables and exact inverses of each other.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "meshlift/semi_regular.h"
+
+namespace meshlift {
+
+/// Frozen values: stored in files later.
+enum class Scheme : std::uint8_t {
+  linear = 0,     ///< odd = (a+b)/2
+  butterfly = 1,  ///< modified butterfly (Zorin, Schroeder, Sweldens 1996), 4-point on boundaries
+  loop = 2,       ///< Loop subdivision as predict + update (CODEC-NOTES §3)
+};
+
+const char* to_string(Scheme scheme);
+/// Parses "linear", "butterfly", "loop"; throws std::invalid_argument otherwise.
+Scheme parse_scheme(const std::string& name);
+
+struct WaveletOptions {
+  Scheme scheme = Scheme::loop;
+  /// linear/butterfly only: add the mean-preserving update (seed 003 eq. 5.9). Loop always has
+  /// its own update step (the Loop vertex rule), so this flag is ignored for it.
+  bool mean_preserving_update = false;
+};
+
+/// One lifting step: for every target vertex t (rows), in synthesis
+///   x[t] = scale[t] * x[t] + sum_k weight[k] * x[index[k]]
+/// and in analysis the inverse x[t] = (x[t] - sum_k weight[k] * x[index[k]]) / scale[t].
+/// Targets and sources are disjoint vertex sets (odd and even), so each step is exactly invertible.
+struct LiftingStep {
+  std::uint32_t first_target = 0;        ///< rows are vertices first_target .. first_target + rows - 1
+  std::vector<std::uint32_t> offsets;    ///< rows + 1 entries
+  std::vector<std::uint32_t> indices;    ///< source vertices
+  std::vector<double> weights;
+  std::vector<double> scales;            ///< one per row; empty means all 1
+
+  std::size_t rows() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+};
+
+class WaveletTransform {
+ public:
+  WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options);
+
+  /// Fine values -> base values (vertices [0, vertex_count(0))) and, at every odd vertex, its
+  /// detail coefficient; in place. values holds vertex_count(levels) * channels doubles
+  /// (vertex-major: channels values per vertex).
+  void analyze(std::span<double> values, int channels = 3) const;
+  /// Base values + details -> values of the mesh at `to_level` (in the first
+  /// vertex_count(to_level) vertices); in place. to_level = -1 means the finest level.
+  void synthesize(std::span<double> values, int channels = 3, int to_level = -1) const;
+
+  int levels() const { return static_cast<int>(steps_.size()); }
+  const WaveletOptions& options() const { return options_; }
+  /// Steps of level j -> j+1, in synthesis order.
+  const std::vector<LiftingStep>& steps(int level) const { return steps_[level]; }
+  std::size_t memory_bytes() const;
+
+ private:
+  WaveletOptions options_;
+  std::vector<std::uint32_t> vertex_counts_;
+  std::vector<std::vector<LiftingStep>> steps_;
+};
+
+}  // namespace meshlift

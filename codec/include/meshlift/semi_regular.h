@@ -1,0 +1,67 @@
+// The semi-regular hierarchy (CODEC-NOTES §1, seed 003 §5.1): a base mesh refined L times by
+// 1:4 splits, vertices numbered level by level so that the mesh of level j uses exactly the
+// vertex range [0, vertex_count(j)).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "meshlift/mesh.h"
+#include "meshlift/topology.h"
+
+namespace meshlift {
+
+/// Hard cap on refinement levels (4^L faces per base face).
+inline constexpr int kMaxLevels = 12;
+
+class SemiRegularHierarchy {
+ public:
+  /// \pre base is a manifold triangle topology; 0 <= levels <= kMaxLevels.
+  /// \throw MeshError if levels is out of range or the refined mesh would exceed 2^32 - 1 vertices.
+  SemiRegularHierarchy(TriangleTopology base, int levels);
+
+  int levels() const { return static_cast<int>(topologies_.size()) - 1; }
+  /// Number of vertices of the mesh at `level` (levels 0..levels()).
+  std::uint32_t vertex_count(int level) const { return topologies_[level].vertex_count; }
+  /// Connectivity of the mesh at `level`.
+  const TriangleTopology& topology(int level) const { return topologies_[level]; }
+  /// The level a vertex first appears on.
+  int level_of(std::uint32_t vertex) const;
+
+  /// The odd vertex of level j+1 on edge e of level j is vertex_count(j) + e; its endpoints:
+  std::uint32_t odd_vertex(int level, std::uint32_t edge) const { return vertex_count(level) + edge; }
+
+  /// Coefficient tree (PGC): parent of an odd vertex of level >= 2 is the odd vertex on the
+  /// coarser edge its edge came from (a half of it, or an inner edge parallel to it);
+  /// kNone for base vertices and level-1 odd vertices (the tree roots).
+  std::uint32_t parent(std::uint32_t vertex) const { return parent_[vertex]; }
+  /// Children of a vertex in the coefficient tree (4 for an interior edge's odd vertex, 3 on a boundary).
+  std::span<const std::uint32_t> children(std::uint32_t vertex) const;
+
+  /// Bytes held by this hierarchy (topologies and tree).
+  std::size_t memory_bytes() const;
+
+ private:
+  std::vector<TriangleTopology> topologies_;
+  std::vector<std::uint32_t> parent_;
+  std::vector<std::uint32_t> child_offsets_;
+  std::vector<std::uint32_t> children_;
+};
+
+/// A semi-regular mesh: hierarchy plus positions of the finest level (xyz, ordered by level).
+struct SemiRegularMesh {
+  SemiRegularHierarchy hierarchy;
+  std::vector<double> positions;
+
+  /// The triangle mesh of `level` (positions of its vertices taken from `values`, which must hold
+  /// at least vertex_count(level) xyz triples: e.g. the output of a synthesis stopped at `level`).
+  TriangleMesh mesh_at(int level, std::span<const double> values) const;
+  TriangleMesh finest() const { return mesh_at(hierarchy.levels(), positions); }
+};
+
+/// Regular refinement of a base triangle mesh: the hierarchy, and the finest positions by
+/// midpoint (linear) subdivision. Other schemes: synthesize with zero details.
+SemiRegularMesh refine_linear(const TriangleMesh& base, int levels);
+
+}  // namespace meshlift

@@ -1,0 +1,27 @@
+// The meshlift CLI: one file per command, each registering its subcommand on the app.
+// Commands use public headers only.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace meshlift::cli {
+
+/// Exit codes shared by every command (docs/CLI.md lists them).
+enum Exit : int {
+  kOk = 0,
+  kUsage = 2,        ///< bad arguments (CLI11 parse errors also exit with this)
+  kBadInput = 3,     ///< the input mesh/file is unreadable, malformed or unsuitable
+  kOutputError = 4,  ///< the output could not be written, or would overwrite an input
+  kInternal = 70,    ///< a bug: please report
+};
+
+/// Each register_* adds a subcommand whose callback sets `exit_code`.
+void register_info(CLI::App& app, int& exit_code);
+void register_subdivide(CLI::App& app, int& exit_code);
+void register_limit(CLI::App& app, int& exit_code);
+
+/// Refuses (returns false and prints why) when `output` names the same file as `input`.
+bool check_distinct_output(const std::string& input, const std::string& output);
+
+}  // namespace meshlift::cli

@@ -1,0 +1,41 @@
+// meshlift: multiresolution wavelet mesh codec, command-line front end.
+#include <exception>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+
+namespace meshlift::cli {
+
+bool check_distinct_output(const std::string& input, const std::string& output) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool same = fs::exists(output, ec) && fs::equivalent(input, output, ec);
+  if (same || input == output) {
+    std::cerr << "meshlift: refusing to write " << output << ": it is the input file\n";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace meshlift::cli
+
+int main(int argc, char** argv) {
+  using namespace meshlift::cli;
+  CLI::App app{"meshlift: multiresolution wavelet mesh codec"};
+  app.require_subcommand(1);
+  int exit_code = kOk;
+  register_info(app, exit_code);
+  register_subdivide(app, exit_code);
+  register_limit(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "meshlift: internal error: " << e.what() << "\n";
+    return kInternal;
+  }
+  return exit_code;
+}
