@@ -1,0 +1,112 @@
+// Procedural meshes for tests: nothing here is read from disk.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "meshlift/mesh.h"
+
+namespace meshlift::test {
+
+/// Regular icosahedron on the unit sphere (12 vertices of valence 5, 20 faces).
+inline TriangleMesh icosahedron() {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  TriangleMesh m;
+  m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
+                 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
+  for (std::size_t i = 0; i < m.positions.size(); i += 3) {
+    const double n = std::sqrt(m.positions[i] * m.positions[i] + m.positions[i + 1] * m.positions[i + 1] +
+                               m.positions[i + 2] * m.positions[i + 2]);
+    for (int k = 0; k < 3; ++k) m.positions[i + k] /= n;
+  }
+  m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  return m;
+}
+
+/// Torus (genus 1) with `rings` x `sides` quads split into triangles; all vertices valence 6.
+inline TriangleMesh torus(int rings = 8, int sides = 6, double major = 1.0, double minor = 0.35) {
+  TriangleMesh m;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sides; ++j) {
+      const double u = 2 * M_PI * i / rings, v = 2 * M_PI * j / sides;
+      m.positions.insert(m.positions.end(), {(major + minor * std::cos(v)) * std::cos(u),
+                                             (major + minor * std::cos(v)) * std::sin(u), minor * std::sin(v)});
+    }
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(((i + rings) % rings) * sides + (j + sides) % sides); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sides; ++j) {
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+/// Planar n x n vertex grid in z = 0 over [0,1]^2, each square split along one diagonal
+/// (interior vertices valence 6): a mesh with one boundary loop.
+inline TriangleMesh grid(int n = 5) {
+  TriangleMesh m;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      m.positions.insert(m.positions.end(), {double(j) / (n - 1), double(i) / (n - 1), 0.0});
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(i * n + j); };
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j + 1 < n; ++j) {
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i + 1, j)});
+    }
+  return m;
+}
+
+/// A fan: one centre vertex of valence `valence` with a ring, closed into a double cone
+/// (two apexes of valence `valence`, ring vertices of valence 4). Closed, genus 0.
+inline TriangleMesh bicone(int valence) {
+  TriangleMesh m;
+  m.positions.insert(m.positions.end(), {0, 0, 1});
+  m.positions.insert(m.positions.end(), {0, 0, -1});
+  for (int i = 0; i < valence; ++i) {
+    const double a = 2 * M_PI * i / valence;
+    m.positions.insert(m.positions.end(), {std::cos(a), std::sin(a), 0.1 * std::sin(3 * a)});
+  }
+  for (int i = 0; i < valence; ++i) {
+    const std::uint32_t r0 = 2 + i, r1 = 2 + (i + 1) % valence;
+    m.triangles.insert(m.triangles.end(), {0, r0, r1});
+    m.triangles.insert(m.triangles.end(), {1, r1, r0});
+  }
+  return m;
+}
+
+/// An open fan: centre vertex of the given valence and its ring (a disk with a boundary).
+inline TriangleMesh disk(int valence) {
+  TriangleMesh m;
+  m.positions.insert(m.positions.end(), {0, 0, 0.2});
+  for (int i = 0; i < valence; ++i) {
+    const double a = 2 * M_PI * i / valence;
+    m.positions.insert(m.positions.end(), {std::cos(a), std::sin(a), 0.05 * std::cos(2 * a)});
+  }
+  for (int i = 0; i < valence; ++i)
+    m.triangles.insert(m.triangles.end(), {0, std::uint32_t(1 + i), std::uint32_t(1 + (i + 1) % valence)});
+  return m;
+}
+
+/// Uniform random values in [-1, 1] (deterministic seed).
+inline std::vector<double> random_values(std::size_t count, unsigned seed = 1) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> v(count);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
+/// Unit cube as 6 quads (all vertices valence 3).
+inline PolygonMesh cube_quads() {
+  PolygonMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  m.face_indices = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+  m.face_offsets = {0, 4, 8, 12, 16, 20, 24};
+  return m;
+}
+
+}  // namespace meshlift::test
