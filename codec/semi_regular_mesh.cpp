@@ -1,0 +1,98 @@
+#include <algorithm>
+#include <string>
+
+#include "meshlift/semi_regular.h"
+
+namespace meshlift {
+
+SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
+  if (levels < 0 || levels > kMaxLevels)
+    throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " + std::to_string(levels));
+  // V_{j+1} = V_j + E_j, E_{j+1} = 2E_j + 3F_j, F_{j+1} = 4F_j: check the finest size fits 32-bit indices.
+  {
+    double v = base.vertex_count, e = static_cast<double>(base.edge_count()), f = static_cast<double>(base.face_count());
+    for (int j = 0; j < levels; ++j) {
+      v += e;
+      e = 2 * e + 3 * f;
+      f *= 4;
+    }
+    if (std::max({v, e, 3 * f}) >= 4294967295.0)
+      throw MeshError("refining " + std::to_string(base.face_count()) + " faces " + std::to_string(levels) +
+                      " times exceeds 2^32 indices");
+  }
+  topologies_.reserve(levels + 1);
+  topologies_.push_back(std::move(base));
+  for (int j = 0; j < levels; ++j) topologies_.push_back(topologies_.back().refined());
+
+  // Coefficient tree (CODEC-NOTES §1): edge e of level j (j >= 1) came from edge e/2 of level j-1
+  // if it is a half (e < 2E_{j-1}), else it is inner edge i of face f, parallel to face edge i.
+  const std::uint32_t total = vertex_count(levels);
+  parent_.assign(total, kNone);
+  for (int j = 1; j < levels; ++j) {
+    const TriangleTopology& coarse = topologies_[j - 1];
+    const auto coarse_edges = static_cast<std::uint32_t>(coarse.edge_count());
+    for (std::uint32_t e = 0; e < topologies_[j].edge_count(); ++e) {
+      std::uint32_t p;
+      if (e < 2 * coarse_edges) {
+        p = e / 2;
+      } else {
+        const std::uint32_t inner = e - 2 * coarse_edges;
+        p = coarse.face_edges[3 * (inner / 3) + inner % 3];
+      }
+      parent_[odd_vertex(j, e)] = odd_vertex(j - 1, p);
+    }
+  }
+  child_offsets_.assign(total + 1, 0);
+  for (std::uint32_t v = 0; v < total; ++v)
+    if (parent_[v] != kNone) ++child_offsets_[parent_[v] + 1];
+  for (std::uint32_t v = 0; v < total; ++v) child_offsets_[v + 1] += child_offsets_[v];
+  children_.resize(child_offsets_[total]);
+  std::vector<std::uint32_t> fill(child_offsets_.begin(), child_offsets_.end() - 1);
+  for (std::uint32_t v = 0; v < total; ++v)
+    if (parent_[v] != kNone) children_[fill[parent_[v]]++] = v;
+}
+
+int SemiRegularHierarchy::level_of(std::uint32_t vertex) const {
+  for (int j = 0; j <= levels(); ++j)
+    if (vertex < vertex_count(j)) return j;
+  return -1;
+}
+
+std::span<const std::uint32_t> SemiRegularHierarchy::children(std::uint32_t vertex) const {
+  return {children_.data() + child_offsets_[vertex], children_.data() + child_offsets_[vertex + 1]};
+}
+
+std::size_t SemiRegularHierarchy::memory_bytes() const {
+  std::size_t bytes = (parent_.capacity() + child_offsets_.capacity() + children_.capacity()) * sizeof(std::uint32_t);
+  for (const auto& t : topologies_)
+    bytes += (t.triangles.capacity() + t.edge_vertices.capacity() + t.edge_faces.capacity() + t.face_edges.capacity()) *
+             sizeof(std::uint32_t);
+  return bytes;
+}
+
+TriangleMesh SemiRegularMesh::mesh_at(int level, std::span<const double> values) const {
+  TriangleMesh m;
+  const std::size_t n = 3 * static_cast<std::size_t>(hierarchy.vertex_count(level));
+  if (values.size() < n) throw MeshError("mesh_at: values hold fewer vertices than the level needs");
+  m.positions.assign(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n));
+  m.triangles = hierarchy.topology(level).triangles;
+  return m;
+}
+
+SemiRegularMesh refine_linear(const TriangleMesh& base, int levels) {
+  SemiRegularMesh m{SemiRegularHierarchy(
+                        TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles), levels),
+                    {}};
+  m.positions = base.positions;
+  m.positions.resize(3 * static_cast<std::size_t>(m.hierarchy.vertex_count(levels)));
+  for (int j = 0; j < levels; ++j) {
+    const TriangleTopology& t = m.hierarchy.topology(j);
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
+      const std::uint32_t v = m.hierarchy.odd_vertex(j, e), a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
+      for (int k = 0; k < 3; ++k) m.positions[3 * v + k] = 0.5 * (m.positions[3 * a + k] + m.positions[3 * b + k]);
+    }
+  }
+  return m;
+}
+
+}  // namespace meshlift

@@ -1,0 +1,27 @@
+// Builds the lifting steps of one level (level j -> j+1) as index+weight tables, one rule per
+// scheme, each formula beside the code that applies it. Internal to codec/.
+#pragma once
+
+#include "meshlift/lifting.h"
+#include "meshlift/topology.h"
+
+namespace meshlift::stencils {
+
+/// Predict step: one row per odd vertex V_j + e (edge e of level j), sources are even vertices.
+/// Synthesis adds the prediction to the stored detail: odd = detail + P(even).
+LiftingStep predict(const TriangleTopology& topology, const VertexEdges& vertex_edges, Scheme scheme);
+
+/// Loop's vertex rule written over the odd vertices (CODEC-NOTES §3): one row per even vertex,
+/// synthesis even' = s_n even + w_n sum(adjacent odd); boundary even' = even/2 + (odd_l + odd_r)/4.
+LiftingStep loop_update(const TriangleTopology& topology, const VertexEdges& vertex_edges);
+
+/// Mean-preserving update for interpolating schemes (seed 003 eq. 5.9), as its synthesis
+/// (inverse) step: even = even~ - lambda_l * sum(adjacent details), lambda_l = 1 / (2 (1 + c_l)),
+/// c_l the column sum of `predict` at l (see lifting.cpp for the derivation from eq. 5.8).
+LiftingStep mean_preserving_update(const TriangleTopology& topology, const VertexEdges& vertex_edges,
+                                   const LiftingStep& predict);
+
+/// Loop's beta_n = (1/n) (5/8 - (3/8 + cos(2 pi / n) / 4)^2) (Loop 1987; CODEC-NOTES §2).
+double loop_beta(unsigned valence);
+
+}  // namespace meshlift::stencils

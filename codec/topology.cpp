@@ -1,0 +1,200 @@
+#include "meshlift/topology.h"
+
+#include <algorithm>
+#include <array>
+#include <string>
+
+namespace meshlift {
+
+std::uint32_t TriangleTopology::opposite_vertex(std::uint32_t f, std::uint32_t e) const {
+  const std::uint32_t a = edge_vertices[2 * e], b = edge_vertices[2 * e + 1];
+  for (int i = 0; i < 3; ++i) {
+    const std::uint32_t v = triangles[3 * f + i];
+    if (v != a && v != b) return v;
+  }
+  return kNone;
+}
+
+TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<const std::uint32_t> triangles) {
+  if (triangles.size() % 3 != 0) throw MeshError("triangle index array length is not a multiple of 3");
+  const std::size_t face_count = triangles.size() / 3;
+  if (face_count >= (std::size_t{1} << 30)) throw MeshError("too many faces");
+  TriangleTopology t;
+  t.vertex_count = vertex_count;
+  t.triangles.assign(triangles.begin(), triangles.end());
+  for (std::size_t f = 0; f < face_count; ++f) {
+    const std::uint32_t a = triangles[3 * f], b = triangles[3 * f + 1], c = triangles[3 * f + 2];
+    if (a >= vertex_count || b >= vertex_count || c >= vertex_count)
+      throw MeshError("face " + std::to_string(f) + " refers to a vertex that does not exist");
+    if (a == b || b == c || c == a) throw MeshError("face " + std::to_string(f) + " repeats a vertex");
+  }
+
+  // Directed corner edges sorted by their undirected key; each key must occur once (boundary)
+  // or twice in opposite directions (interior, consistently oriented).
+  struct Corner {
+    std::uint32_t lo, hi, face, corner;
+  };
+  std::vector<Corner> corners(3 * face_count);
+  for (std::uint32_t f = 0; f < face_count; ++f)
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = triangles[3 * f + i], b = triangles[3 * f + (i + 1) % 3];
+      corners[3 * f + i] = {std::min(a, b), std::max(a, b), f, i};
+    }
+  std::sort(corners.begin(), corners.end(), [](const Corner& x, const Corner& y) {
+    return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.face < y.face;
+  });
+  t.face_edges.assign(3 * face_count, kNone);
+  for (std::size_t i = 0; i < corners.size();) {
+    std::size_t j = i + 1;
+    while (j < corners.size() && corners[j].lo == corners[i].lo && corners[j].hi == corners[i].hi) ++j;
+    const std::string where = "edge (" + std::to_string(corners[i].lo) + ", " + std::to_string(corners[i].hi) + ")";
+    if (j - i > 2) throw MeshError("non-manifold " + where + ": " + std::to_string(j - i) + " faces share it");
+    const auto e = static_cast<std::uint32_t>(t.edge_count());
+    const Corner& first = corners[i];
+    const std::uint32_t a = triangles[3 * first.face + first.corner];
+    const std::uint32_t b = triangles[3 * first.face + (first.corner + 1) % 3];
+    t.edge_vertices.insert(t.edge_vertices.end(), {a, b});
+    t.edge_faces.insert(t.edge_faces.end(), {first.face, kNone});
+    t.face_edges[3 * first.face + first.corner] = e;
+    if (j - i == 2) {
+      const Corner& second = corners[i + 1];
+      if (triangles[3 * second.face + second.corner] == a)
+        throw MeshError("inconsistent orientation at " + where + ": faces " + std::to_string(first.face) +
+                        " and " + std::to_string(second.face) + " run it the same way");
+      t.edge_faces[2 * e + 1] = second.face;
+      t.face_edges[3 * second.face + second.corner] = e;
+    }
+    i = j;
+  }
+
+  // Pinched vertices: the faces around each vertex must form a single fan. Walk the fan from
+  // one face in both directions across the vertex's edges and compare with the face count.
+  std::vector<std::uint32_t> face_count_at(vertex_count, 0), first_face(vertex_count, kNone);
+  for (std::uint32_t f = 0; f < face_count; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t v = triangles[3 * f + i];
+      ++face_count_at[v];
+      if (first_face[v] == kNone) first_face[v] = f;
+    }
+  auto corner_of = [&](std::uint32_t f, std::uint32_t v) {
+    for (std::uint32_t i = 0; i < 3; ++i)
+      if (t.triangles[3 * f + i] == v) return i;
+    return 3u;
+  };
+  for (std::uint32_t v = 0; v < vertex_count; ++v) {
+    if (first_face[v] == kNone) continue;
+    std::uint32_t visited = 1;
+    // Direction 0 leaves each face through the edge entering v (corner i-1 -> i), direction 1
+    // through the edge leaving v (corner i -> i+1). A closed fan is walked by direction 0 alone.
+    for (int direction = 0; direction < 2; ++direction) {
+      std::uint32_t f = first_face[v];
+      bool closed = false;
+      while (visited <= face_count_at[v]) {
+        const std::uint32_t i = corner_of(f, v);
+        const std::uint32_t e = t.face_edges[3 * f + (direction == 0 ? (i + 2) % 3 : i)];
+        const std::uint32_t next = t.edge_faces[2 * e] == f ? t.edge_faces[2 * e + 1] : t.edge_faces[2 * e];
+        if (next == kNone) break;
+        if (next == first_face[v]) {
+          closed = true;
+          break;
+        }
+        f = next;
+        ++visited;
+      }
+      if (closed) break;
+    }
+    if (visited != face_count_at[v])
+      throw MeshError("non-manifold vertex " + std::to_string(v) + ": its " + std::to_string(face_count_at[v]) +
+                      " faces form more than one fan");
+  }
+  return t;
+}
+
+TriangleTopology TriangleTopology::refined() const {
+  const auto V = vertex_count;
+  const auto E = static_cast<std::uint32_t>(edge_count());
+  const auto F = static_cast<std::uint32_t>(face_count());
+  TriangleTopology r;
+  r.vertex_count = V + E;
+  r.edge_vertices.resize(2 * (2 * E + 3 * F));
+  r.edge_faces.assign(2 * (2 * E + 3 * F), kNone);
+  r.triangles.resize(3 * 4 * F);
+  r.face_edges.resize(3 * 4 * F);
+
+  // Halves: edge e = (a, b) with midpoint m becomes 2e = (a, m) and 2e+1 = (m, b), same direction.
+  for (std::uint32_t e = 0; e < E; ++e) {
+    const std::uint32_t a = edge_vertices[2 * e], b = edge_vertices[2 * e + 1], m = V + e;
+    r.edge_vertices[4 * e + 0] = a;
+    r.edge_vertices[4 * e + 1] = m;
+    r.edge_vertices[4 * e + 2] = m;
+    r.edge_vertices[4 * e + 3] = b;
+  }
+  for (std::uint32_t f = 0; f < F; ++f) {
+    std::uint32_t c[3], m[3], half_from[3], half_to[3];
+    for (int i = 0; i < 3; ++i) {
+      c[i] = triangles[3 * f + i];
+      const std::uint32_t e = face_edges[3 * f + i];
+      m[i] = V + e;
+      // The half of edge i that touches corner i, and the half that touches corner i+1.
+      const bool forward = edge_vertices[2 * e] == c[i];
+      half_from[i] = forward ? 2 * e : 2 * e + 1;
+      half_to[i] = forward ? 2 * e + 1 : 2 * e;
+    }
+    // Inner edge i joins m[i+2] -> m[i+1] (parallel to face edge i, run this way by the corner face).
+    std::uint32_t inner[3];
+    for (int i = 0; i < 3; ++i) {
+      inner[i] = 2 * E + 3 * f + i;
+      r.edge_vertices[2 * inner[i]] = m[(i + 2) % 3];
+      r.edge_vertices[2 * inner[i] + 1] = m[(i + 1) % 3];
+    }
+    // Corner faces: corner i keeps (c[i], m[i], m[i+2]); edges: half of edge i at c[i],
+    // inner edge i+1 (m[i] -> m[i+2]), half of edge i+2 at c[i].
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t nf = 4 * f + i;
+      const int j = (i + 2) % 3;
+      const std::uint32_t tri[3] = {c[i], m[i], m[j]};
+      const std::uint32_t edges[3] = {half_from[i], inner[(i + 1) % 3], half_to[j]};
+      for (int k = 0; k < 3; ++k) {
+        r.triangles[3 * nf + k] = tri[k];
+        r.face_edges[3 * nf + k] = edges[k];
+      }
+    }
+    // Centre face (m0, m1, m2): edges m0->m1 (inner 2 reversed), m1->m2 (inner 0), m2->m0 (inner 1).
+    const std::uint32_t centre = 4 * f + 3;
+    const std::uint32_t tri[3] = {m[0], m[1], m[2]};
+    const std::uint32_t edges[3] = {inner[2], inner[0], inner[1]};
+    for (int k = 0; k < 3; ++k) {
+      r.triangles[3 * centre + k] = tri[k];
+      r.face_edges[3 * centre + k] = edges[k];
+    }
+  }
+  // Edge -> faces: slot 0 for the face running the edge as stored, slot 1 for the other.
+  for (std::uint32_t f = 0; f < 4 * F; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t e = r.face_edges[3 * f + k];
+      const bool forward = r.edge_vertices[2 * e] == r.triangles[3 * f + k];
+      r.edge_faces[2 * e + (forward ? 0 : 1)] = f;
+    }
+  return r;
+}
+
+VertexEdges::VertexEdges(const TriangleTopology& topology) {
+  const std::uint32_t V = topology.vertex_count;
+  offsets.assign(V + 1, 0);
+  boundary.assign(V, 0);
+  for (std::size_t e = 0; e < topology.edge_count(); ++e) {
+    ++offsets[topology.edge_vertices[2 * e] + 1];
+    ++offsets[topology.edge_vertices[2 * e + 1] + 1];
+  }
+  for (std::uint32_t v = 0; v < V; ++v) offsets[v + 1] += offsets[v];
+  edges.resize(offsets[V]);
+  std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (std::uint32_t e = 0; e < topology.edge_count(); ++e) {
+    const std::uint32_t a = topology.edge_vertices[2 * e], b = topology.edge_vertices[2 * e + 1];
+    edges[fill[a]++] = e;
+    edges[fill[b]++] = e;
+    if (topology.is_boundary_edge(e)) boundary[a] = boundary[b] = 1;
+  }
+}
+
+}  // namespace meshlift
