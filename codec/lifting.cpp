@@ -40,6 +40,11 @@ Scheme parse_scheme(const std::string& name) {
   throw std::invalid_argument("unknown wavelet scheme '" + name + "' (expected linear, butterfly or loop)");
 }
 
+namespace {
+/// How many source entries ahead synthesis prefetches; the index arrays carry this much padding.
+constexpr std::uint32_t kPrefetchDistance = 48;
+}  // namespace
+
 WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options)
     : options_(options) {
   for (int j = 0; j <= hierarchy.levels(); ++j) vertex_counts_.push_back(hierarchy.vertex_count(j));
@@ -58,48 +63,111 @@ WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, Wavele
     } else {
       steps.push_back(std::move(predict));
     }
+    for (LiftingStep& step : steps) {
+      step.indices.resize(step.indices.size() + kPrefetchDistance, 0);
+      step.indices.shrink_to_fit();
+      step.row_pattern.shrink_to_fit();
+    }
   }
+}
+
+void LiftingStep::append_row(double scale, std::span<const std::uint32_t> sources, std::span<const double> weights) {
+  const auto arity = static_cast<std::uint32_t>(sources.size());
+  std::uint32_t found = kNone;
+  for (std::uint32_t p = 0; p < patterns.size() && found == kNone; ++p) {
+    const Pattern& candidate = patterns[p];
+    if (candidate.arity == arity && candidate.scale == scale &&
+        std::equal(weights.begin(), weights.end(), pattern_weights.begin() + candidate.first_weight))
+      found = p;
+  }
+  if (found == kNone) {
+    found = static_cast<std::uint32_t>(patterns.size());
+    patterns.push_back({arity, static_cast<std::uint32_t>(pattern_weights.size()), scale});
+    pattern_weights.insert(pattern_weights.end(), weights.begin(), weights.end());
+  }
+  row_pattern.push_back(found);
+  indices.insert(indices.end(), sources.begin(), sources.end());
+}
+
+std::size_t LiftingStep::memory_bytes() const {
+  return (row_pattern.capacity() + indices.capacity()) * sizeof(std::uint32_t) + patterns.capacity() * sizeof(Pattern) +
+         pattern_weights.capacity() * sizeof(double);
 }
 
 namespace {
 
-// One step in the synthesis direction: x[t] = scale[t] x[t] + sum_k w_k x[i_k]. Fixed summation
-// order (scale term first, then the row in table order) so encoder and decoder agree bit for bit.
+// One row in the synthesis direction: x[t] = scale x[t] + sum_k w_k x[i_k], with C channels and
+// A sources known at compile time where it matters (A = 0: read from the pattern). Fixed
+// summation order (scale term first, then the sources in table order) so that every build of
+// the decoder computes the same bits.
+template <int C, int A>
+inline const std::uint32_t* synthesize_row(double* __restrict x, double* __restrict target, const std::uint32_t* idx,
+                                           const double* w, double scale, std::uint32_t arity, int channels) {
+  const int n = C > 0 ? C : channels;
+  const std::uint32_t count = A > 0 ? static_cast<std::uint32_t>(A) : arity;
+  double acc[C > 0 ? C : 64];
+  for (int c = 0; c < n; ++c) acc[c] = scale * target[c];
+  for (std::uint32_t k = 0; k < count; ++k) {
+    // Sources are scattered over a level larger than the caches: fetch those of a row about
+    // eight rows ahead (the index array is padded so this never reads past its end).
+    __builtin_prefetch(x + static_cast<std::size_t>(idx[k + kPrefetchDistance]) * n);
+    const double* source = x + static_cast<std::size_t>(idx[k]) * n;
+    for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
+  }
+  for (int c = 0; c < n; ++c) target[c] = acc[c];
+  return idx + count;
+}
+
 template <int C>
 void step_synthesis(const LiftingStep& s, double* x, int channels) {
   const int n = C > 0 ? C : channels;
-  const std::uint32_t* off = s.offsets.data();
   const std::uint32_t* idx = s.indices.data();
-  const double* w = s.weights.data();
-  const bool scaled = !s.scales.empty();
-  const std::size_t rows = s.rows();
-  for (std::size_t r = 0; r < rows; ++r) {
-    double* target = x + (s.first_target + r) * n;
-    double acc[C > 0 ? C : 64];
-    const double scale = scaled ? s.scales[r] : 1.0;
-    for (int c = 0; c < n; ++c) acc[c] = scale * target[c];
-    for (std::uint32_t k = off[r]; k < off[r + 1]; ++k) {
-      const double* source = x + static_cast<std::size_t>(idx[k]) * n;
-      for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
+  const LiftingStep::Pattern* patterns = s.patterns.data();
+  const double* weights = s.pattern_weights.data();
+  double* target = x + static_cast<std::size_t>(s.first_target) * n;
+  for (const std::uint32_t pattern : s.row_pattern) {
+    const LiftingStep::Pattern& p = patterns[pattern];
+    const double* w = weights + p.first_weight;
+    // The regular rows: 2 (linear, boundary), 4 (Loop interior edge, 4-point), 6 and 8 (Loop even
+    // and butterfly); the rest (extraordinary vertices) take the generic loop.
+    switch (p.arity) {
+      case 2:
+        idx = synthesize_row<C, 2>(x, target, idx, w, p.scale, 2, n);
+        break;
+      case 4:
+        idx = synthesize_row<C, 4>(x, target, idx, w, p.scale, 4, n);
+        break;
+      case 6:
+        idx = synthesize_row<C, 6>(x, target, idx, w, p.scale, 6, n);
+        break;
+      case 8:
+        idx = synthesize_row<C, 8>(x, target, idx, w, p.scale, 8, n);
+        break;
+      default:
+        idx = synthesize_row<C, 0>(x, target, idx, w, p.scale, p.arity, n);
     }
-    for (int c = 0; c < n; ++c) target[c] = acc[c];
+    target += n;
   }
 }
 
-// The inverse: x[t] = (x[t] - sum_k w_k x[i_k]) / scale[t].
+// The inverse: x[t] = (x[t] - sum_k w_k x[i_k]) / scale.
 template <int C>
 void step_analysis(const LiftingStep& s, double* x, int channels) {
   const int n = C > 0 ? C : channels;
-  const bool scaled = !s.scales.empty();
-  for (std::size_t r = 0; r < s.rows(); ++r) {
-    double* target = x + (s.first_target + r) * n;
+  const std::uint32_t* idx = s.indices.data();
+  double* target = x + static_cast<std::size_t>(s.first_target) * n;
+  for (const std::uint32_t pattern : s.row_pattern) {
+    const LiftingStep::Pattern& p = s.patterns[pattern];
+    const double* w = s.pattern_weights.data() + p.first_weight;
     double acc[C > 0 ? C : 64] = {};
-    for (std::uint32_t k = s.offsets[r]; k < s.offsets[r + 1]; ++k) {
-      const double* source = x + static_cast<std::size_t>(s.indices[k]) * n;
-      for (int c = 0; c < n; ++c) acc[c] += s.weights[k] * source[c];
+    for (std::uint32_t k = 0; k < p.arity; ++k) {
+      __builtin_prefetch(x + static_cast<std::size_t>(idx[k + kPrefetchDistance]) * n);
+      const double* source = x + static_cast<std::size_t>(idx[k]) * n;
+      for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
     }
-    const double scale = scaled ? s.scales[r] : 1.0;
-    for (int c = 0; c < n; ++c) target[c] = (target[c] - acc[c]) / scale;
+    idx += p.arity;
+    for (int c = 0; c < n; ++c) target[c] = (target[c] - acc[c]) / p.scale;
+    target += n;
   }
 }
 
@@ -142,8 +210,7 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
 std::size_t WaveletTransform::memory_bytes() const {
   std::size_t bytes = 0;
   for (const auto& level : steps_)
-    for (const auto& s : level)
-      bytes += s.offsets.capacity() * 4 + s.indices.capacity() * 4 + (s.weights.capacity() + s.scales.capacity()) * 8;
+    for (const auto& s : level) bytes += s.memory_bytes();
   return bytes;
 }
 

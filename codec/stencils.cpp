@@ -19,24 +19,28 @@ class RowBuilder {
       }
     entries_.emplace_back(index, weight);
   }
-  void finish(LiftingStep& step) {
+  void finish(LiftingStep& step, double scale = 1.0) {
+    sources_.clear();
+    weights_.clear();
     for (const auto& [i, w] : entries_) {
-      step.indices.push_back(i);
-      step.weights.push_back(w);
+      sources_.push_back(i);
+      weights_.push_back(w);
     }
-    step.offsets.push_back(static_cast<std::uint32_t>(step.indices.size()));
+    step.append_row(scale, sources_, weights_);
     entries_.clear();
   }
 
  private:
   std::vector<std::pair<std::uint32_t, double>> entries_;
+  std::vector<std::uint32_t> sources_;
+  std::vector<double> weights_;
 };
 
-LiftingStep empty_step(std::uint32_t first_target, std::size_t rows_hint) {
+LiftingStep empty_step(std::uint32_t first_target, std::size_t rows, std::size_t entries_per_row) {
   LiftingStep step;
   step.first_target = first_target;
-  step.offsets.reserve(rows_hint + 1);
-  step.offsets.push_back(0);
+  step.row_pattern.reserve(rows);
+  step.indices.reserve(rows * entries_per_row);
   return step;
 }
 
@@ -151,9 +155,7 @@ double loop_beta(unsigned n) {
 }
 
 LiftingStep predict(const TriangleTopology& t, const VertexEdges& ve, Scheme scheme) {
-  LiftingStep step = empty_step(t.vertex_count, t.edge_count());
-  step.indices.reserve(4 * t.edge_count());
-  step.weights.reserve(4 * t.edge_count());
+  LiftingStep step = empty_step(t.vertex_count, t.edge_count(), 4);
   RowBuilder row;
   for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
     const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
@@ -187,27 +189,26 @@ LiftingStep predict(const TriangleTopology& t, const VertexEdges& ve, Scheme sch
 
 LiftingStep loop_update(const TriangleTopology& t, const VertexEdges& ve) {
   const std::uint32_t V = t.vertex_count;
-  LiftingStep step = empty_step(0, V);
-  step.scales.resize(V);
+  LiftingStep step = empty_step(0, V, 6);
   RowBuilder row;
   for (std::uint32_t v = 0; v < V; ++v) {
     const unsigned n = ve.valence(v);
+    double scale = 1.0;  // isolated vertex: nothing to average
     if (n == 0) {
-      step.scales[v] = 1.0;  // isolated vertex: nothing to average
     } else if (ve.boundary[v]) {
       // Boundary even: v' = v/2 + (odd_l + odd_r)/4 over the two boundary-edge odds, which equals
       // Loop's boundary rule 3/4 v + 1/8 (b_l + b_r) since odd = (v + b)/2 there.
-      step.scales[v] = 0.5;
+      scale = 0.5;
       for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k)
         if (t.is_boundary_edge(ve.edges[k])) row.add(V + ve.edges[k], 0.25);
     } else {
       // Interior even: sum of its n odds = 3n/8 v + 5/8 sum(v_i), so Loop's
       // v' = (1 - n beta) v + beta sum(v_i) = s_n v + w_n sum(odd), w_n = 8 beta / 5, s_n = 1 - n w_n.
       const double w = 8.0 * loop_beta(n) / 5.0;
-      step.scales[v] = 1.0 - n * w;
+      scale = 1.0 - n * w;
       for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k) row.add(V + ve.edges[k], w);
     }
-    row.finish(step);
+    row.finish(step, scale);
   }
   return step;
 }
@@ -216,8 +217,12 @@ LiftingStep mean_preserving_update(const TriangleTopology& t, const VertexEdges&
   const std::uint32_t V = t.vertex_count;
   // c_l = sum over odd k of p(k, l): how much of the fine signal even vertex l predicts.
   std::vector<double> column_sum(V, 0.0);
-  for (std::size_t k = 0; k < predict.indices.size(); ++k) column_sum[predict.indices[k]] += predict.weights[k];
-  LiftingStep step = empty_step(0, V);
+  const std::uint32_t* source = predict.indices.data();
+  for (std::uint32_t pattern : predict.row_pattern) {
+    const LiftingStep::Pattern& p = predict.patterns[pattern];
+    for (std::uint32_t k = 0; k < p.arity; ++k) column_sum[*source++] += predict.pattern_weights[p.first_weight + k];
+  }
+  LiftingStep step = empty_step(0, V, 6);
   RowBuilder row;
   for (std::uint32_t v = 0; v < V; ++v) {
     const double mass = 1.0 + column_sum[v];

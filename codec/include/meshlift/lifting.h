@@ -32,17 +32,29 @@ struct WaveletOptions {
 };
 
 /// One lifting step: for every target vertex t (rows), in synthesis
-///   x[t] = scale[t] * x[t] + sum_k weight[k] * x[index[k]]
-/// and in analysis the inverse x[t] = (x[t] - sum_k weight[k] * x[index[k]]) / scale[t].
+///   x[t] = scale * x[t] + sum_k weight_k * x[source_k]
+/// and in analysis the inverse x[t] = (x[t] - sum_k weight_k * x[source_k]) / scale.
 /// Targets and sources are disjoint vertex sets (odd and even), so each step is exactly invertible.
+/// Rows share their weights: a scheme has only a handful of distinct rows (regular, boundary,
+/// one per extraordinary valence and ring position), so each row stores a pattern number and its
+/// source indices; the pattern holds the scale and the weights. This halves the bytes the hot
+/// loop streams compared with per-entry weights.
 struct LiftingStep {
-  std::uint32_t first_target = 0;        ///< rows are vertices first_target .. first_target + rows - 1
-  std::vector<std::uint32_t> offsets;    ///< rows + 1 entries
-  std::vector<std::uint32_t> indices;    ///< source vertices
-  std::vector<double> weights;
-  std::vector<double> scales;            ///< one per row; empty means all 1
+  struct Pattern {
+    std::uint32_t arity = 0;         ///< number of sources
+    std::uint32_t first_weight = 0;  ///< into pattern_weights
+    double scale = 1.0;
+  };
+  std::uint32_t first_target = 0;          ///< rows are vertices first_target .. first_target + rows() - 1
+  std::vector<std::uint32_t> row_pattern;  ///< one per row
+  std::vector<std::uint32_t> indices;      ///< sources, row after row
+  std::vector<Pattern> patterns;
+  std::vector<double> pattern_weights;
 
-  std::size_t rows() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t rows() const { return row_pattern.size(); }
+  /// Appends a row; `sources` and `weights` have equal length. Identical rows share a pattern.
+  void append_row(double scale, std::span<const std::uint32_t> sources, std::span<const double> weights);
+  std::size_t memory_bytes() const;
 };
 
 class WaveletTransform {
