@@ -1,0 +1,203 @@
+// Adaptive binary range coder (LZMA-style carry-propagating encoder, 32-bit range) whose decoder
+// knows exactly which of its symbols the available bytes determine: a stream cut at any byte
+// decodes to a prefix of the encoded symbols. Knows bits only; the exact arithmetic is specified
+// as decoder pseudo-code in bitstream/FORMAT.md §7, and the two classes below mirror it.
+//
+// Choices (frozen by format version 1):
+//  - probabilities are 15-bit (kProbOne = 2^15) and held in [kProbMin, kProbMax] =
+//    [128, 32640], so one byte of normalization always restores range >= 2^24 and the
+//    cheapest bit costs log2(256/255) = 0.0056 bits;
+//  - adaptation is count-based: a model's first updates move fast (shift 1, 2, 2, 3, ...,
+//    about 1/(n+1), like a frequency count) and settle at shift 7 after 63 updates (a window
+//    of ~128 bits). At a stationary p = 0.05 this costs ~1 % above the entropy, against ~4 %
+//    for LZMA's fixed shift 5 (tests/bitstream/test_range_coder.cpp prints the figure);
+//  - both sides normalize *before* each decision, so the decoder reads exactly the bytes the
+//    encoder wrote and can tell whether a decision used a byte that is not there.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "meshlift/status.h"
+
+namespace meshlift {
+
+namespace range_coder {
+inline constexpr int kProbBits = 15;
+inline constexpr std::uint32_t kProbOne = std::uint32_t{1} << kProbBits;
+inline constexpr std::uint32_t kProbMin = 128;
+inline constexpr std::uint32_t kProbMax = kProbOne - kProbMin;
+inline constexpr std::uint16_t kHalf = kProbOne / 2;
+inline constexpr std::uint32_t kTop = std::uint32_t{1} << 24;  ///< normalize when range < kTop
+inline constexpr std::uint8_t kCountMax = 63;                    ///< update count saturates here
+inline constexpr int kMaxDirectBits = 32;
+/// Adaptation shift for a model updated `count` times: 1 + floor(log2(count + 1)), in [1, 7].
+inline constexpr std::array<std::uint8_t, kCountMax + 1> kShiftForCount = [] {
+  std::array<std::uint8_t, kCountMax + 1> shifts{};
+  for (int count = 0; count <= kCountMax; ++count) {
+    int shift = 1;
+    while ((count + 1) >> shift) ++shift;
+    shifts[static_cast<std::size_t>(count)] = static_cast<std::uint8_t>(shift);
+  }
+  return shifts;
+}();
+}  // namespace range_coder
+
+/// Adaptive probability that the next bit is 0, in units of 2^-15. Encoder and decoder must
+/// start from equal models (default-constructed) and feed them the same bits in the same order.
+struct BitModel {
+  std::uint16_t p = range_coder::kHalf;  ///< P(bit == 0) * 2^15, always in [kProbMin, kProbMax]
+  std::uint8_t count = 0;                ///< updates so far, saturating at kCountMax
+
+  /// The adaptation rule (FORMAT.md §7.3), shared by encoder and decoder so they cannot drift:
+  /// bit 0: p += (kProbMax - p) >> shift;  bit 1: p -= (p - kProbMin) >> shift.
+  void update(int bit) {
+    const int shift = range_coder::kShiftForCount[count];
+    count = static_cast<std::uint8_t>(count + (count < range_coder::kCountMax));
+    if (bit == 0) {
+      p = static_cast<std::uint16_t>(p + ((range_coder::kProbMax - p) >> shift));
+    } else {
+      p = static_cast<std::uint16_t>(p - ((p - range_coder::kProbMin) >> shift));
+    }
+  }
+};
+
+/// Writes bits into a range-coded byte stream. Not for untrusted input (there is none); may
+/// throw std::bad_alloc like any std::vector.
+class RangeEncoder {
+ public:
+  /// Codes `bit` (0 or nonzero = 1) with the probability in `model`, then adapts `model`.
+  void encode(BitModel& model, int bit) {
+    normalize();
+    const std::uint32_t bound = (range_ >> range_coder::kProbBits) * model.p;
+    if (bit == 0) {
+      range_ = bound;
+      model.update(0);
+    } else {
+      low_ += bound;
+      range_ -= bound;
+      model.update(1);
+    }
+  }
+
+  /// Codes the low `bits` bits of `value`, most significant first, each with probability 1/2.
+  /// \pre 0 <= bits <= 32 (other counts are clamped to that range).
+  void encode_direct(std::uint32_t value, int bits) {
+    bits = bits < 0 ? 0 : (bits > range_coder::kMaxDirectBits ? range_coder::kMaxDirectBits : bits);
+    for (int i = bits - 1; i >= 0; --i) {
+      normalize();
+      range_ >>= 1;
+      if ((value >> i) & 1u) low_ += range_;
+    }
+  }
+
+  /// Flushes and returns the stream. The encoder is reset to its initial state afterwards.
+  std::vector<std::uint8_t> finish();
+
+  /// Size that finish() would return if called now: the exact cost of everything coded so far.
+  std::size_t bytes_so_far() const { return out_.size() + static_cast<std::size_t>(cache_size_) + 4; }
+
+ private:
+  void normalize() {
+    if (range_ < range_coder::kTop) {
+      range_ <<= 8;
+      shift_low();
+    }
+  }
+  void shift_low();
+
+  std::uint64_t low_ = 0;  ///< 32 bits of interval start plus a carry in bit 32
+  std::uint32_t range_ = 0xFFFFFFFFu;
+  std::uint8_t cache_ = 0;           ///< last byte not yet written (a carry may still change it)
+  std::uint64_t cache_size_ = 1;     ///< cache_ plus the 0xFF bytes pending behind it
+  std::vector<std::uint8_t> out_;
+};
+
+/// Reads a range-coded stream. Safe on any input: never reads outside `bytes`, never throws,
+/// never allocates.
+///
+/// Contract (the prefix property): call decode()/decode_direct() with the same sequence of
+/// models and bit counts as the encoder and check exhausted() after each call. Every symbol
+/// decoded while exhausted() was false after the call is identical to the encoder's. The first
+/// call whose decision would need a byte past the end of `bytes` sets exhausted(), and that
+/// symbol and all later ones are not trustworthy: decode() then returns 0 and
+/// decode_direct() returns the bits decoded before the end with the rest zero, without
+/// consuming input or updating models. So a stream cut after n bytes yields a prefix of the
+/// symbols, and the prefix never shrinks as n grows; the whole stream yields every symbol.
+///
+/// A stream shorter than the 5 initial bytes is exhausted from the start (status() ==
+/// truncated). A first byte other than 0 (the encoder always writes 0) or an impossible
+/// initial code makes status() == corrupt, also exhausted from the start. Other corruption
+/// cannot be detected here: the symbols are then merely wrong, which is what chunk checksums
+/// are for.
+class RangeDecoder {
+ public:
+  RangeDecoder() = default;  ///< an empty stream: exhausted, status() == truncated
+  explicit RangeDecoder(std::span<const std::uint8_t> bytes);
+
+  int decode(BitModel& model) {
+    if (range_ < range_coder::kTop && !refill()) return 0;
+    const std::uint32_t bound = (range_ >> range_coder::kProbBits) * model.p;
+    if (code_ < bound) {
+      range_ = bound;
+      model.update(0);
+      return 0;
+    }
+    code_ -= bound;
+    range_ -= bound;
+    model.update(1);
+    return 1;
+  }
+
+  /// Decodes `bits` equiprobable bits, most significant first. \pre 0 <= bits <= 32 (clamped).
+  std::uint32_t decode_direct(int bits) {
+    bits = bits < 0 ? 0 : (bits > range_coder::kMaxDirectBits ? range_coder::kMaxDirectBits : bits);
+    std::uint32_t value = 0;
+    for (int i = bits - 1; i >= 0; --i) {
+      if (range_ < range_coder::kTop && !refill()) {
+        return static_cast<std::uint32_t>(std::uint64_t{value} << (i + 1));
+      }
+      range_ >>= 1;
+      std::uint32_t bit = 0;
+      if (code_ >= range_) {
+        code_ -= range_;
+        bit = 1;
+      }
+      value = (value << 1) | bit;
+    }
+    return value;
+  }
+
+  /// True once a decision needed a byte the input does not have (or the input is unusable);
+  /// the symbol of that call and all later ones are not trustworthy.
+  bool exhausted() const { return status_ != Status::ok; }
+  /// ok while not exhausted; truncated when the input ran out; corrupt for a bad first byte.
+  Status status() const { return status_; }
+  /// Bytes of the input consumed so far (at most its size).
+  std::size_t position() const { return static_cast<std::size_t>(next_ - begin_); }
+
+ private:
+  /// One normalization step: shifts in the next byte, or marks the stream exhausted.
+  bool refill() {
+    if (next_ == end_) {
+      if (status_ == Status::ok) status_ = Status::truncated;
+      range_ = 0;  // keeps every later call on this slow path
+      return false;
+    }
+    range_ <<= 8;
+    code_ = (code_ << 8) | *next_++;
+    return true;
+  }
+
+  const std::uint8_t* begin_ = nullptr;
+  const std::uint8_t* next_ = nullptr;
+  const std::uint8_t* end_ = nullptr;
+  std::uint32_t range_ = 0;
+  std::uint32_t code_ = 0;
+  Status status_ = Status::truncated;
+};
+
+}  // namespace meshlift
