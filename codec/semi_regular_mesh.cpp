@@ -96,3 +96,35 @@ SemiRegularMesh refine_linear(const TriangleMesh& base, int levels) {
 }
 
 }  // namespace meshlift
+
+namespace meshlift {
+
+std::optional<SemiRegularMesh> recover_level_ordered(const TriangleMesh& mesh) {
+  const std::size_t faces = mesh.face_count();
+  const std::size_t vertices = mesh.vertex_count();
+  // Face f of the base becomes faces 4f..4f+3, corner face i first; so base corner i of face f
+  // is the first corner of finest face 4^L f + 4^(L-1) i.
+  int max_levels = 0;
+  while (max_levels < kMaxLevels && faces % (std::size_t{1} << (2 * (max_levels + 1))) == 0) ++max_levels;
+  for (int L = max_levels; L >= 1; --L) {
+    const std::size_t block = std::size_t{1} << (2 * L), sub = block / 4;
+    const std::size_t base_faces = faces / block;
+    std::vector<std::uint32_t> base(3 * base_faces);
+    std::uint32_t base_vertices = 0;
+    for (std::size_t f = 0; f < base_faces; ++f)
+      for (std::size_t i = 0; i < 3; ++i) {
+        base[3 * f + i] = mesh.triangles[3 * (block * f + sub * i)];
+        base_vertices = std::max(base_vertices, base[3 * f + i] + 1);
+      }
+    if (base_vertices > vertices) continue;
+    try {
+      SemiRegularHierarchy h(TriangleTopology::build(base_vertices, base), L);
+      if (h.vertex_count(L) != vertices || h.topology(L).triangles != mesh.triangles) continue;
+      return SemiRegularMesh{std::move(h), mesh.positions};
+    } catch (const MeshError&) {
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace meshlift

@@ -20,6 +20,10 @@ enum Exit : int {
 void register_info(CLI::App& app, int& exit_code);
 void register_subdivide(CLI::App& app, int& exit_code);
 void register_limit(CLI::App& app, int& exit_code);
+void register_encode(CLI::App& app, int& exit_code);
+void register_decode(CLI::App& app, int& exit_code);
+void register_truncate(CLI::App& app, int& exit_code);
+void register_stream(CLI::App& app, int& exit_code);
 
 /// Refuses (returns false and prints why) when `output` names the same file as `input`.
 bool check_distinct_output(const std::string& input, const std::string& output);

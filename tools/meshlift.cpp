@@ -28,6 +28,10 @@ int main(int argc, char** argv) {
   register_info(app, exit_code);
   register_subdivide(app, exit_code);
   register_limit(app, exit_code);
+  register_encode(app, exit_code);
+  register_decode(app, exit_code);
+  register_truncate(app, exit_code);
+  register_stream(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

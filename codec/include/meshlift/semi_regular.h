@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -63,5 +64,15 @@ struct SemiRegularMesh {
 /// Regular refinement of a base triangle mesh: the hierarchy, and the finest positions by
 /// midpoint (linear) subdivision. Other schemes: synthesize with zero details.
 SemiRegularMesh refine_linear(const TriangleMesh& base, int levels);
+
+}  // namespace meshlift
+
+namespace meshlift {
+
+/// Recovers the hierarchy of a mesh whose vertices and faces are in meshlift's own level order
+/// (as `refine_linear`, `meshlift subdivide` and the decoder write them): the base corners are
+/// read off the finest faces, the base is refined, and the result must reproduce the faces
+/// exactly. Returns the mesh with the most levels that does; nullopt if none (levels >= 1).
+std::optional<SemiRegularMesh> recover_level_ordered(const TriangleMesh& mesh);
 
 }  // namespace meshlift

@@ -1,0 +1,171 @@
+// .mlz stream -> mesh, for whole files and for any prefix (bitstream/FORMAT.md §3-5). Mirrors
+// encoder.cpp. Untrusted bytes: every count is checked against the caller's limits and the bytes
+// present before anything is allocated; failures are numbered statuses, never exceptions.
+#include <algorithm>
+#include <cmath>
+#include <new>
+
+#include "base_mesh_coder.h"
+#include "meshlift/codec.h"
+#include "meshlift/container.h"
+#include "stream_header.h"
+#include "zerotree_coder.h"
+
+namespace meshlift {
+namespace {
+
+/// The range coder spends at least 1/64 bit on a face only in streams no encoder writes; a base
+/// chunk claiming more faces than this bound allows is corrupt (checked before allocating).
+constexpr std::uint64_t kMaxFacesPerBaseByte = 64;
+
+DecodeResult failure(Status status, std::string message) {
+  DecodeResult r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+struct ParsedStream {
+  ContainerReader container;
+  StreamHeader header;
+  const Chunk* base = nullptr;
+  std::vector<std::uint8_t> coefficients;  ///< the COEF payloads, concatenated
+};
+
+/// Parses container and header; on success fills `out`, else returns the failure.
+DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limits, ParsedStream& out) {
+  const Status container_status = out.container.parse(bytes);
+  if (container_status != Status::ok) {
+    const ContainerError& e = out.container.error();
+    return failure(container_status, std::string(describe(container_status)) + " (at byte " + std::to_string(e.offset) +
+                                         ", chunk " + std::to_string(e.chunk_index) + ")");
+  }
+  const auto& chunks = out.container.chunks();
+  if (chunks.empty() || !chunks[0].complete)
+    return failure(Status::truncated, "the stream ends inside its header chunk");
+  if (chunks[0].tag != kTagHeader) return failure(Status::corrupt, "the first chunk is not HEAD");
+  std::string message;
+  const Status header_status = out.header.read(chunks[0].payload, limits, message);
+  if (header_status != Status::ok) return failure(header_status, message);
+  for (std::size_t i = 1; i < chunks.size(); ++i) {
+    const Chunk& c = chunks[i];
+    if (c.tag == kTagBaseMesh && i == 1) {
+      out.base = &c;
+    } else if (c.tag == kTagCoefficients && i >= 2) {
+      out.coefficients.insert(out.coefficients.end(), c.payload.begin(), c.payload.end());
+    } else if (c.tag == 0 && !c.complete) {
+      // cut inside a chunk's tag: nothing of it is usable
+    } else if (is_critical_tag(c.tag) || c.tag == kTagHeader || c.tag == kTagBaseMesh || c.tag == kTagCoefficients) {
+      return failure(Status::corrupt, "unexpected chunk " + tag_to_string(c.tag) + " at byte " + std::to_string(c.offset));
+    }
+  }
+  if (out.base == nullptr || !out.base->complete)
+    return failure(Status::truncated, "the stream ends before its base mesh is complete");
+  return {};
+}
+
+/// Vertex count after `levels` refinements: V' = V + E, E' = 2E + 3F, F' = 4F.
+double refined_vertex_count(const TriangleTopology& base, int levels) {
+  double v = base.vertex_count, e = static_cast<double>(base.edge_count()), f = static_cast<double>(base.face_count());
+  for (int j = 0; j < levels; ++j) {
+    v += e;
+    e = 2 * e + 3 * f;
+    f *= 4;
+  }
+  return v;
+}
+
+}  // namespace
+
+DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options) {
+  const std::span<const std::uint8_t> prefix = bytes.first(std::min(bytes.size(), options.max_bytes));
+  ParsedStream stream;
+  if (DecodeResult r = parse(prefix, options.limits, stream); r.status != Status::ok) return r;
+  const StreamHeader& header = stream.header;
+
+  // Base mesh.
+  if (header.base_faces > kMaxFacesPerBaseByte * stream.base->payload.size() + 1024)
+    return failure(Status::corrupt, "the base chunk is too short for " + std::to_string(header.base_faces) + " faces");
+  std::vector<std::uint32_t> triangles;
+  if (!base_mesh::decode_faces(stream.base->payload, header.base_vertices, header.base_faces, triangles))
+    return failure(Status::corrupt, "the base mesh connectivity does not decode");
+  TriangleTopology base;
+  try {
+    base = TriangleTopology::build(header.base_vertices, triangles);
+  } catch (const MeshError& e) {
+    return failure(Status::corrupt, std::string("the base mesh is not a manifold mesh: ") + e.what());
+  }
+  const double vertices = refined_vertex_count(base, header.levels);
+  if (vertices > static_cast<double>(options.limits.max_vertices))
+    return failure(Status::limit_exceeded, "the stream refines to " + std::to_string(static_cast<std::uint64_t>(vertices)) +
+                                               " vertices (limit " + std::to_string(options.limits.max_vertices) + ")");
+
+  try {
+    const SemiRegularHierarchy h(std::move(base), header.levels);
+    RangeDecoder decoder(stream.coefficients);
+    const zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), header.top_plane, decoder);
+
+    // Dequantize: value = midpoint * step / w_j, then the centre back on the base values.
+    const int L = header.levels;
+    std::vector<double> values(std::size_t{h.vertex_count(L)} * 3);
+    for (int j = 0, v = 0; j <= L; ++j)
+      for (; v < static_cast<int>(h.vertex_count(j)); ++v)
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t i = 3 * static_cast<std::size_t>(v) + k;
+          values[i] = decoded.value(i) * header.step / header.level_weights[j];
+        }
+    for (std::uint32_t v = 0; v < h.vertex_count(0); ++v)
+      for (int k = 0; k < 3; ++k) values[3 * v + k] += header.center[k];
+
+    DecodeResult result;
+    result.levels = L;
+    result.level = options.max_level < 0 ? L : std::min(options.max_level, L);
+    const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
+    transform.synthesize(values, 3, result.level);
+    values.resize(std::size_t{h.vertex_count(result.level)} * 3);
+    result.mesh.positions = std::move(values);
+    result.mesh.triangles = h.topology(result.level).triangles;
+    result.bit_plane = decoded.last_plane;
+    result.bytes_used = prefix.size();
+    result.complete = decoded.complete && !stream.container.truncated();
+    return result;
+  } catch (const std::bad_alloc&) {
+    return failure(Status::limit_exceeded, "not enough memory to decode this stream");
+  } catch (const MeshError& e) {
+    return failure(Status::corrupt, e.what());
+  }
+}
+
+StreamInfo inspect(std::span<const std::uint8_t> bytes) {
+  StreamInfo info;
+  ParsedStream stream;
+  const DecodeResult r = parse(bytes, DecodeLimits{}, stream);
+  for (const Chunk& c : stream.container.chunks())
+    info.chunks.push_back({tag_to_string(c.tag), c.offset, c.payload.size(), c.complete});
+  info.status = r.status;
+  info.message = r.message;
+  if (r.status != Status::ok && stream.header.level_weights.empty()) return info;
+  const StreamHeader& h = stream.header;
+  info.scheme = h.scheme;
+  info.mean_preserving_update = h.mean_preserving_update;
+  info.levels = h.levels;
+  info.base_vertices = h.base_vertices;
+  info.base_faces = h.base_faces;
+  info.faces = std::uint64_t{h.base_faces} << (2 * h.levels);
+  info.step = h.step;
+  info.level_weights = h.level_weights;
+  info.top_plane = h.top_plane;
+  if (r.status == Status::ok) {
+    std::vector<std::uint32_t> triangles;
+    if (base_mesh::decode_faces(stream.base->payload, h.base_vertices, h.base_faces, triangles)) {
+      try {
+        info.vertices = static_cast<std::uint64_t>(
+            refined_vertex_count(TriangleTopology::build(h.base_vertices, triangles), h.levels));
+      } catch (const MeshError&) {
+      }
+    }
+  }
+  return info;
+}
+
+}  // namespace meshlift

@@ -1,0 +1,119 @@
+// Semi-regular mesh -> .mlz stream: analyze, normalize and quantize, then the HEAD, BASE and
+// COEF chunks (bitstream/FORMAT.md §3-5). Mirrors decoder.cpp.
+#include <algorithm>
+#include <cmath>
+
+#include "base_mesh_coder.h"
+#include "meshlift/codec.h"
+#include "meshlift/container.h"
+#include "stream_header.h"
+#include "zerotree_coder.h"
+
+namespace meshlift {
+namespace {
+
+/// COEF chunks hold this many bytes of the range-coded stream each, so that corruption is
+/// located to within one chunk while the per-chunk overhead stays below 0.02 %.
+constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
+
+/// L2 norm of the synthesis basis function of one vertex of each level (CODEC-NOTES §4): a unit
+/// coefficient at a vertex in the middle of the level's range, synthesized to the finest level.
+/// Scaling level j's coefficients by it makes one quantization step cost the same squared error
+/// at every level.
+std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform) {
+  const int L = h.levels();
+  std::vector<double> weights(L + 1);
+  std::vector<double> impulse(h.vertex_count(L));
+  for (int j = 0; j <= L; ++j) {
+    const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
+    std::fill(impulse.begin(), impulse.end(), 0.0);
+    impulse[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
+    transform.synthesize(impulse, 1);
+    double sum = 0;
+    for (double x : impulse) sum += x * x;
+    weights[j] = std::sqrt(sum);
+  }
+  return weights;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOptions& options) {
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  const int L = h.levels();
+  const std::uint32_t V = h.vertex_count(L);
+  if (mesh.positions.size() != std::size_t{V} * 3) throw MeshError("encode: positions do not match the hierarchy");
+  if (V >= (std::uint32_t{1} << 31)) throw MeshError("encode: too many vertices");
+  if (options.precision_bits < 1 || options.precision_bits > 40)
+    throw MeshError("encode: precision_bits must be between 1 and 40");
+  for (double x : mesh.positions)
+    if (!std::isfinite(x)) throw MeshError("encode: a vertex coordinate is NaN or infinite");
+
+  StreamHeader header;
+  header.scheme = options.scheme;
+  header.mean_preserving_update = options.mean_preserving_update && options.scheme != Scheme::loop;
+  header.levels = L;
+  header.base_vertices = h.vertex_count(0);
+  header.base_faces = static_cast<std::uint32_t>(h.topology(0).face_count());
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = hi[k] = mesh.positions[k];
+    for (std::uint32_t v = 0; v < V; ++v) {
+      lo[k] = std::min(lo[k], mesh.positions[3 * v + k]);
+      hi[k] = std::max(hi[k], mesh.positions[3 * v + k]);
+    }
+    header.center[k] = 0.5 * (lo[k] + hi[k]);
+  }
+  double diagonal = bounding_box_diagonal(mesh.positions);
+  if (!(diagonal > 0)) diagonal = 1.0;
+  header.step = std::ldexp(diagonal, -options.precision_bits);
+
+  // Analysis of the centred positions: base values at [0, V0), details at the odd vertices.
+  const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
+  std::vector<double> values(mesh.positions.size());
+  for (std::uint32_t v = 0; v < V; ++v)
+    for (int k = 0; k < 3; ++k) values[3 * v + k] = mesh.positions[3 * v + k] - header.center[k];
+  transform.analyze(values);
+  header.level_weights = level_weights(h, transform);
+
+  // Quantization: magnitude = floor(|c w_j| / step) (a dead-zone quantizer; the decoder
+  // reconstructs at the middle of the interval its bits leave open).
+  zerotree::Quantized q;
+  q.magnitude.resize(values.size());
+  q.negative.resize(values.size());
+  for (int j = 0, v = 0; j <= L; ++j)
+    for (; v < static_cast<int>(h.vertex_count(j)); ++v)
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t i = 3 * static_cast<std::size_t>(v) + k;
+        const double scaled = std::abs(values[i]) * header.level_weights[j] / header.step;
+        if (scaled >= 2147483648.0)
+          throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) +
+                          " is too fine for " + std::to_string(L) + " levels; use fewer bits");
+        q.magnitude[i] = static_cast<std::uint32_t>(scaled);
+        q.negative[i] = values[i] < 0 && q.magnitude[i] > 0;
+      }
+  header.top_plane = zerotree::top_plane(q);
+
+  RangeEncoder coefficient_encoder;
+  zerotree::encode(zerotree::Forest(h), q, header.top_plane, coefficient_encoder);
+  const std::vector<std::uint8_t> coefficients = coefficient_encoder.finish();
+
+  ContainerWriter writer;
+  writer.add_chunk(kTagHeader, header.write());
+  writer.add_chunk(kTagBaseMesh, base_mesh::encode_faces(h.topology(0).triangles));
+  for (std::size_t offset = 0; offset < coefficients.size(); offset += kCoefficientChunkBytes)
+    writer.add_chunk(kTagCoefficients,
+                     std::span(coefficients).subspan(offset, std::min(kCoefficientChunkBytes, coefficients.size() - offset)));
+  std::vector<std::uint8_t> file = writer.finish();
+  if (file.size() > options.max_bytes) {
+    // truncate_file may add up to a 4-byte checksum after the cut: cut that much earlier.
+    std::vector<std::uint8_t> cut;
+    const std::size_t target = options.max_bytes > container::kChecksumBytes ? options.max_bytes - container::kChecksumBytes : 0;
+    if (truncate_file(file, target, cut) != Status::ok)
+      throw MeshError("encode: max_bytes " + std::to_string(options.max_bytes) + " is smaller than the stream's header");
+    file = std::move(cut);
+  }
+  return file;
+}
+
+}  // namespace meshlift

@@ -1,0 +1,92 @@
+// The meshlift codec: semi-regular mesh <-> embedded .mlz stream (bitstream/FORMAT.md).
+// Every prefix of a stream decodes to a valid mesh, coarser or less precise.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "meshlift/lifting.h"
+#include "meshlift/status.h"
+
+namespace meshlift {
+
+struct EncodeOptions {
+  Scheme scheme = Scheme::loop;
+  bool mean_preserving_update = false;  ///< linear / butterfly only
+  /// Quantization step of the finest bit plane, as a power of two of the bounding-box diagonal:
+  /// step = diagonal * 2^-precision_bits (in the normalized coefficient domain, see FORMAT.md).
+  int precision_bits = 16;
+  /// Cut the embedded stream to at most this many bytes (whole file, headers included).
+  std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
+};
+
+/// Encodes the positions of a semi-regular mesh. \throw MeshError if the mesh is unusable
+/// (positions of the wrong size, non-finite coordinates) or the precision cannot be met.
+std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOptions& options);
+
+/// Caller-settable caps, checked against the header before anything is allocated.
+struct DecodeLimits {
+  std::uint64_t max_vertices = std::uint64_t{1} << 26;   ///< output vertices (67 M)
+  std::uint64_t max_base_vertices = std::uint64_t{1} << 22;
+  std::uint64_t max_base_faces = std::uint64_t{1} << 23;
+};
+
+struct DecodeOptions {
+  std::size_t max_bytes = std::numeric_limits<std::size_t>::max();  ///< read at most this prefix
+  int max_level = -1;                                                 ///< stop synthesis at this level
+  DecodeLimits limits;
+};
+
+struct DecodeResult {
+  Status status = Status::ok;  ///< ok, or why nothing (or less) could be decoded
+  std::string message;         ///< the specific element or offset, for the user
+  TriangleMesh mesh;           ///< the best mesh the bytes allow (empty if status is an error)
+  int level = 0;               ///< refinement level of `mesh`
+  int levels = 0;              ///< levels in the stream
+  int bit_plane = -1;          ///< lowest bit plane fully or partly decoded (-1: none)
+  std::size_t bytes_used = 0;  ///< bytes of the input the mesh reflects
+  bool complete = false;       ///< the whole stream was decoded
+};
+
+/// Decodes a whole or truncated stream. Never throws on bad bytes: a numbered status instead.
+DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options = {});
+
+/// Streaming decode: push bytes as they arrive, ask for the best mesh at any moment.
+class Decoder {
+ public:
+  explicit Decoder(DecodeOptions options = {}) : options_(options) {}
+  void push(std::span<const std::uint8_t> bytes) { received_.insert(received_.end(), bytes.begin(), bytes.end()); }
+  std::size_t bytes_received() const { return received_.size(); }
+  /// The mesh decoded from everything pushed so far (same as decode() of that prefix).
+  DecodeResult mesh() const { return decode(received_, options_); }
+
+ private:
+  DecodeOptions options_;
+  std::vector<std::uint8_t> received_;
+};
+
+/// Facts from a stream's header, without decoding coefficients.
+struct StreamInfo {
+  Status status = Status::ok;
+  std::string message;
+  Scheme scheme = Scheme::loop;
+  bool mean_preserving_update = false;
+  int levels = 0;
+  std::uint64_t base_vertices = 0, base_faces = 0, vertices = 0, faces = 0;
+  double step = 0;  ///< quantization step of the finest plane (normalized domain)
+  std::vector<double> level_weights;  ///< w_j: level j's coefficients are known within step / w_j
+  int top_plane = 0;
+  struct Chunk {
+    std::string tag;
+    std::size_t offset = 0, size = 0;
+    bool complete = false;
+  };
+  std::vector<Chunk> chunks;
+};
+StreamInfo inspect(std::span<const std::uint8_t> bytes);
+
+}  // namespace meshlift

@@ -1,0 +1,102 @@
+#include "stream_header.h"
+
+#include <bit>
+#include <cmath>
+
+#include "meshlift/byte_io.h"
+
+namespace meshlift {
+namespace {
+constexpr std::uint8_t kFlagUpdate = 1;
+}
+
+// Layout (FORMAT.md §3): u8 scheme, u8 flags, u8 levels, u8 top_plane + 1, varint base vertices,
+// varint base faces, f64 step, 3 x f64 center, (levels + 1) x f64 level weights.
+std::vector<std::uint8_t> StreamHeader::write() const {
+  ByteWriter w;
+  w.u8(static_cast<std::uint8_t>(scheme));
+  w.u8(mean_preserving_update ? kFlagUpdate : 0);
+  w.u8(static_cast<std::uint8_t>(levels));
+  w.u8(static_cast<std::uint8_t>(top_plane + 1));
+  w.varint(base_vertices);
+  w.varint(base_faces);
+  w.u64(std::bit_cast<std::uint64_t>(step));
+  for (double c : center) w.u64(std::bit_cast<std::uint64_t>(c));
+  for (double weight : level_weights) w.u64(std::bit_cast<std::uint64_t>(weight));
+  return w.take();
+}
+
+Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLimits& limits, std::string& message) {
+  ByteReader r(payload);
+  std::uint8_t scheme_byte = 0, flags = 0, levels_byte = 0, plane_byte = 0;
+  std::uint64_t vertices = 0, faces = 0;
+  r.u8(scheme_byte);
+  r.u8(flags);
+  r.u8(levels_byte);
+  r.u8(plane_byte);
+  r.varint(vertices);
+  r.varint(faces);
+  if (!r.ok()) {
+    message = "header chunk too short";
+    return Status::corrupt;
+  }
+  if (scheme_byte > static_cast<std::uint8_t>(Scheme::loop)) {
+    message = "unknown wavelet scheme " + std::to_string(scheme_byte);
+    return Status::corrupt;
+  }
+  if (flags & ~kFlagUpdate) {
+    message = "reserved header flag bits set";
+    return Status::reserved_bits_set;
+  }
+  if (levels_byte > kMaxLevels) {
+    message = "header claims " + std::to_string(levels_byte) + " levels (at most " + std::to_string(kMaxLevels) + ")";
+    return Status::limit_exceeded;
+  }
+  if (plane_byte > 32) {
+    message = "header claims bit plane " + std::to_string(plane_byte - 1);
+    return Status::corrupt;
+  }
+  if (vertices < 3 || faces < 1) {
+    message = "header claims an empty base mesh";
+    return Status::corrupt;
+  }
+  if (vertices > limits.max_base_vertices || faces > limits.max_base_faces) {
+    message = "header claims " + std::to_string(vertices) + " base vertices and " + std::to_string(faces) +
+              " base faces (limits " + std::to_string(limits.max_base_vertices) + ", " +
+              std::to_string(limits.max_base_faces) + ")";
+    return Status::limit_exceeded;
+  }
+  scheme = static_cast<Scheme>(scheme_byte);
+  mean_preserving_update = flags & kFlagUpdate;
+  levels = levels_byte;
+  top_plane = static_cast<int>(plane_byte) - 1;
+  base_vertices = static_cast<std::uint32_t>(vertices);
+  base_faces = static_cast<std::uint32_t>(faces);
+  auto read_double = [&](double& out) {
+    std::uint64_t bits = 0;
+    r.u64(bits);
+    out = std::bit_cast<double>(bits);
+  };
+  read_double(step);
+  for (double& c : center) read_double(c);
+  level_weights.resize(static_cast<std::size_t>(levels) + 1);
+  for (double& weight : level_weights) read_double(weight);
+  if (!r.ok()) {
+    message = "header chunk too short for its quantization parameters";
+    return Status::corrupt;
+  }
+  bool finite = std::isfinite(step) && step > 0;
+  for (double c : center) finite = finite && std::isfinite(c);
+  for (double weight : level_weights) finite = finite && std::isfinite(weight) && weight > 0;
+  if (!finite) {
+    message = "header holds a non-finite or non-positive quantization parameter";
+    return Status::corrupt;
+  }
+  if (r.remaining() != 0) {
+    message = "header chunk has " + std::to_string(r.remaining()) + " unexpected trailing bytes";
+    return Status::corrupt;
+  }
+  return Status::ok;
+}
+
+}  // namespace meshlift

@@ -1,0 +1,31 @@
+// The HEAD chunk of a .mlz stream (bitstream/FORMAT.md §3): written and read side by side.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "meshlift/codec.h"
+
+namespace meshlift {
+
+struct StreamHeader {
+  Scheme scheme = Scheme::loop;
+  bool mean_preserving_update = false;
+  int levels = 0;
+  int top_plane = -1;  ///< highest bit plane coded, -1 if every coefficient is zero
+  std::uint32_t base_vertices = 0;
+  std::uint32_t base_faces = 0;
+  double step = 1.0;  ///< quantization step of plane 0, normalized coefficient domain
+  std::array<double, 3> center{};
+  std::vector<double> level_weights;  ///< levels + 1 synthesis-basis norms
+
+  std::vector<std::uint8_t> write() const;
+  /// Parses and validates a HEAD payload against `limits`; on failure returns the status and
+  /// sets `message` to the offending field.
+  Status read(std::span<const std::uint8_t> payload, const DecodeLimits& limits, std::string& message);
+};
+
+}  // namespace meshlift

@@ -1,0 +1,64 @@
+// Embedded bit-plane coding of the wavelet coefficients by set partitioning in hierarchical
+// trees (SPIHT, Said & Pearlman 1996) over the semi-regular coefficient tree, as Progressive
+// Geometry Compression (Khodakovsky, Schroeder, Sweldens 2000) does, with every decision coded by
+// the adaptive binary range coder under a context (level, component, sibling significance).
+// Encoder and decoder run the same traversal (zerotree_coder.cpp), so they cannot drift apart.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "meshlift/range_coder.h"
+#include "meshlift/semi_regular.h"
+
+namespace meshlift::zerotree {
+
+/// Components coded per vertex (x, y, z).
+inline constexpr int kComponents = 3;
+
+/// The coding forest over all vertices: roots are the base vertices; a base vertex's children
+/// are the level-1 odd vertices on the base edges it starts (edge_vertices[2e] == v); every other
+/// vertex's children are its coefficient-tree children (CODEC-NOTES §1).
+struct Forest {
+  std::uint32_t roots = 0;
+  std::vector<std::uint32_t> child_offsets;  ///< vertex_count + 1
+  std::vector<std::uint32_t> children;
+  std::vector<std::uint8_t> level;  ///< level of each vertex (for contexts)
+
+  explicit Forest(const SemiRegularHierarchy& hierarchy);
+  std::uint32_t vertex_count() const { return static_cast<std::uint32_t>(level.size()); }
+};
+
+/// Integer magnitudes floor(|c| / step) and signs of the normalized coefficients, 3 per vertex.
+struct Quantized {
+  std::vector<std::uint32_t> magnitude;
+  std::vector<std::uint8_t> negative;
+};
+
+/// Highest plane n with some magnitude >= 2^n (-1 if all are zero).
+int top_plane(const Quantized& q);
+
+void encode(const Forest& forest, const Quantized& q, int top_plane, RangeEncoder& encoder);
+
+/// What the decoder knows of each coefficient: magnitude bits known down to `low_plane`
+/// (|c| in [known, known + 2^low_plane) steps), or insignificant (known == 0).
+struct Decoded {
+  std::vector<std::uint32_t> known;
+  std::vector<std::int8_t> low_plane;
+  std::vector<std::uint8_t> negative;
+  int last_plane = -1;  ///< the lowest plane the decoder reached (partly or wholly)
+  bool complete = false;
+
+  /// Reconstruction in steps: the midpoint of the interval, signed; 0 if insignificant.
+  double value(std::size_t i) const {
+    if (known[i] == 0) return 0.0;
+    const double mid = known[i] + 0.5 * static_cast<double>(std::uint64_t{1} << low_plane[i]);
+    return negative[i] ? -mid : mid;
+  }
+};
+
+/// Decodes until the stream ends (decoder exhausted) or every plane down to 0 is done.
+Decoded decode(const Forest& forest, int top_plane, RangeDecoder& decoder);
+
+}  // namespace meshlift::zerotree

@@ -1,0 +1,256 @@
+// meshlift encode / decode / truncate / stream: the codec's commands (public headers only).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+#include "files.h"
+#include "meshlift/codec.h"
+#include "meshlift/container.h"
+#include "meshlift/mesh_io.h"
+#include "meshlift/validate.h"
+
+namespace meshlift::cli {
+namespace {
+
+struct EncodeArgs {
+  std::string input, output, scheme = "loop";
+  bool update = false;
+  int levels = -1, bits = 16;
+  double bpv = 0;
+  std::size_t bytes = 0;
+};
+
+int run_encode(const EncodeArgs& a) {
+  if (!check_distinct_output(a.input, a.output)) return kOutputError;
+  PolygonMesh input;
+  try {
+    input = read_mesh(a.input);
+  } catch (const MeshIOError& e) {
+    std::cerr << "meshlift: " << e.what() << "\n";
+    return kBadInput;
+  }
+  const std::string problem = first_problem_for_triangle_codec(validate_mesh(input));
+  if (!problem.empty()) {
+    std::cerr << "meshlift: " << a.input << ": " << problem << "\n";
+    return kBadInput;
+  }
+  std::optional<SemiRegularMesh> mesh = recover_level_ordered(to_triangle_mesh(input));
+  if (!mesh) {
+    std::cerr << "meshlift: " << a.input
+              << ": no subdivision connectivity in meshlift's level order (make one with `meshlift subdivide`; "
+                 "remeshing arbitrary meshes is not built yet)\n";
+    return kBadInput;
+  }
+  if (a.levels >= 0 && a.levels != mesh->hierarchy.levels()) {
+    std::cerr << "meshlift: " << a.input << ": the mesh has " << mesh->hierarchy.levels()
+              << " subdivision levels, --levels asked for " << a.levels << "\n";
+    return kBadInput;
+  }
+  EncodeOptions options;
+  options.scheme = parse_scheme(a.scheme);
+  options.mean_preserving_update = a.update;
+  options.precision_bits = a.bits;
+  const std::size_t vertices = input.vertex_count();
+  if (a.bytes > 0) options.max_bytes = a.bytes;
+  if (a.bpv > 0) options.max_bytes = static_cast<std::size_t>(std::ceil(a.bpv * static_cast<double>(vertices) / 8));
+  std::vector<std::uint8_t> file;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    file = encode(*mesh, options);
+  } catch (const MeshError& e) {
+    std::cerr << "meshlift: " << a.input << ": " << e.what() << "\n";
+    return kBadInput;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::string error;
+  if (!write_bytes(a.output, file, error)) {
+    std::cerr << "meshlift: " << error << "\n";
+    return kOutputError;
+  }
+  const StreamInfo info = inspect(file);
+  std::size_t base_bytes = 0;
+  for (const auto& c : info.chunks)
+    if (c.tag == "HEAD" || c.tag == "BASE") base_bytes += c.size;
+  std::fprintf(stderr, "%s: %zu vertices, %d levels, %s -> %s: %zu bytes, %.3f bits/vertex (header + base mesh %.1f %%), %.2f s\n",
+               a.input.c_str(), vertices, mesh->hierarchy.levels(), a.scheme.c_str(), a.output.c_str(), file.size(),
+               8.0 * static_cast<double>(file.size()) / static_cast<double>(vertices),
+               100.0 * static_cast<double>(base_bytes) / static_cast<double>(file.size()), seconds);
+  return kOk;
+}
+
+/// Reads a .mlz file; prints the one-line error and returns false on failure.
+bool load_stream(const std::string& path, std::vector<std::uint8_t>& bytes) {
+  std::string error;
+  if (read_bytes(path, bytes, error)) return true;
+  std::cerr << "meshlift: " << error << "\n";
+  return false;
+}
+
+void print_failure(const std::string& path, const DecodeResult& r) {
+  std::cerr << "meshlift: " << path << ": " << to_string(r.status) << " (error " << static_cast<int>(r.status)
+            << "): " << r.message << "\n";
+}
+
+struct DecodeArgs {
+  std::string input, output;
+  std::size_t bytes = 0;
+  int level = -1;
+  bool stats = false, binary = false;
+};
+
+int run_decode(const DecodeArgs& a) {
+  if (!check_distinct_output(a.input, a.output)) return kOutputError;
+  std::vector<std::uint8_t> file;
+  if (!load_stream(a.input, file)) return kBadInput;
+  DecodeOptions options;
+  if (a.bytes > 0) options.max_bytes = a.bytes;
+  options.max_level = a.level;
+  const auto t0 = std::chrono::steady_clock::now();
+  const DecodeResult r = decode(file, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (r.status != Status::ok) {
+    print_failure(a.input, r);
+    return kBadInput;
+  }
+  try {
+    write_mesh(a.output, r.mesh, a.binary);
+  } catch (const MeshIOError& e) {
+    std::cerr << "meshlift: " << e.what() << "\n";
+    return kOutputError;
+  }
+  if (a.stats)
+    std::fprintf(stderr,
+                 "%s: %zu of %zu bytes, level %d of %d, bit plane %d%s: %zu vertices, %zu faces; decode %.3f ms "
+                 "(%.2f M vertices/s, file I/O excluded)\n",
+                 a.input.c_str(), r.bytes_used, file.size(), r.level, r.levels, r.bit_plane,
+                 r.complete ? " (complete)" : "", r.mesh.vertex_count(), r.mesh.face_count(), seconds * 1e3,
+                 static_cast<double>(r.mesh.vertex_count()) / seconds / 1e6);
+  return kOk;
+}
+
+struct TruncateArgs {
+  std::string input, output;
+  std::size_t bytes = 0;
+};
+
+int run_truncate(const TruncateArgs& a) {
+  if (!check_distinct_output(a.input, a.output)) return kOutputError;
+  std::vector<std::uint8_t> file, cut;
+  if (!load_stream(a.input, file)) return kBadInput;
+  const Status status = truncate_file(file, a.bytes, cut);
+  if (status != Status::ok) {
+    std::cerr << "meshlift: " << a.input << ": " << to_string(status) << " (error " << static_cast<int>(status)
+              << "): " << describe(status) << "\n";
+    return kBadInput;
+  }
+  std::string error;
+  if (!write_bytes(a.output, cut, error)) {
+    std::cerr << "meshlift: " << error << "\n";
+    return kOutputError;
+  }
+  std::fprintf(stderr, "%s: %zu bytes -> %s: %zu bytes\n", a.input.c_str(), file.size(), a.output.c_str(), cut.size());
+  return kOk;
+}
+
+struct StreamArgs {
+  std::string input, directory;
+  std::size_t every = 0;
+};
+
+int run_stream(const StreamArgs& a) {
+  std::vector<std::uint8_t> file;
+  if (!load_stream(a.input, file)) return kBadInput;
+  std::error_code ec;
+  std::filesystem::create_directories(a.directory, ec);
+  if (ec) {
+    std::cerr << "meshlift: " << a.directory << ": cannot create the directory: " << ec.message() << "\n";
+    return kOutputError;
+  }
+  Decoder decoder;
+  std::size_t written = 0;
+  for (std::size_t at = 0; at < file.size();) {
+    const std::size_t n = std::min(a.every, file.size() - at);
+    decoder.push(std::span(file).subspan(at, n));
+    at += n;
+    const DecodeResult r = decoder.mesh();
+    if (r.status == Status::truncated) {
+      std::fprintf(stderr, "%8zu bytes: nothing to show yet (%s)\n", at, r.message.c_str());
+      continue;
+    }
+    if (r.status != Status::ok) {
+      print_failure(a.input, r);
+      return kBadInput;
+    }
+    char name[64];
+    std::snprintf(name, sizeof name, "prefix_%09zu.ply", at);
+    const std::string path = (std::filesystem::path(a.directory) / name).string();
+    try {
+      write_mesh(path, r.mesh, true);
+    } catch (const MeshIOError& e) {
+      std::cerr << "meshlift: " << e.what() << "\n";
+      return kOutputError;
+    }
+    ++written;
+    std::fprintf(stderr, "%8zu bytes: %s (%zu vertices, bit plane %d%s)\n", at, name, r.mesh.vertex_count(), r.bit_plane,
+                 r.complete ? ", complete" : "");
+  }
+  std::fprintf(stderr, "%zu meshes written to %s\n", written, a.directory.c_str());
+  return kOk;
+}
+
+}  // namespace
+
+void register_encode(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<EncodeArgs>();
+  auto* cmd = app.add_subcommand("encode", "Encode a semi-regular mesh into an embedded .mlz stream");
+  cmd->add_option("input", a->input, "mesh with subdivision connectivity in level order (e.g. from `meshlift subdivide`)")
+      ->required();
+  cmd->add_option("-o,--output", a->output, "output .mlz file")->required();
+  cmd->add_option("--scheme", a->scheme, "wavelet: linear, butterfly or loop")
+      ->check(CLI::IsMember({"linear", "butterfly", "loop"}));
+  cmd->add_flag("--update", a->update, "mean-preserving update (linear, butterfly)");
+  cmd->add_option("--levels", a->levels, "expected subdivision levels of the input")->check(CLI::Range(0, 12));
+  cmd->add_option("--bits", a->bits, "precision of the finest bit plane: step = diagonal * 2^-bits")
+      ->check(CLI::Range(1, 40));
+  auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")
+                  ->check(CLI::PositiveNumber);
+  cmd->add_option("--bytes", a->bytes, "cut the stream at this many bytes")->check(CLI::PositiveNumber)->excludes(bpv);
+  cmd->callback([a, &exit_code] { exit_code = run_encode(*a); });
+}
+
+void register_decode(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<DecodeArgs>();
+  auto* cmd = app.add_subcommand("decode", "Decode a .mlz stream (or a prefix of it) into a mesh");
+  cmd->add_option("input", a->input, "input .mlz file")->required();
+  cmd->add_option("-o,--output", a->output, "output mesh (obj, off, ply, stl)")->required();
+  cmd->add_option("--bytes", a->bytes, "decode only this prefix")->check(CLI::PositiveNumber);
+  cmd->add_option("--level", a->level, "stop at this refinement level")->check(CLI::Range(0, 12));
+  cmd->add_flag("--stats", a->stats, "print decode time (file I/O excluded) and vertices per second");
+  cmd->add_flag("--binary", a->binary, "binary PLY/STL output");
+  cmd->callback([a, &exit_code] { exit_code = run_decode(*a); });
+}
+
+void register_truncate(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<TruncateArgs>();
+  auto* cmd = app.add_subcommand("truncate", "Cut a .mlz stream to a valid, smaller file (no re-encoding)");
+  cmd->add_option("input", a->input, "input .mlz file")->required();
+  cmd->add_option("--bytes", a->bytes, "prefix length to keep (the file may end up to 4 bytes longer: the last chunk's checksum)")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("-o,--output", a->output, "output .mlz file")->required();
+  cmd->callback([a, &exit_code] { exit_code = run_truncate(*a); });
+}
+
+void register_stream(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<StreamArgs>();
+  auto* cmd = app.add_subcommand("stream", "Write the mesh a streaming viewer holds after every N bytes");
+  cmd->add_option("input", a->input, "input .mlz file")->required();
+  cmd->add_option("--every", a->every, "bytes between snapshots")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("-o,--output", a->directory, "output directory")->required();
+  cmd->callback([a, &exit_code] { exit_code = run_stream(*a); });
+}
+
+}  // namespace meshlift::cli

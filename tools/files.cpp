@@ -1,0 +1,47 @@
+#include "files.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace meshlift::cli {
+
+bool read_bytes(const std::string& path, std::vector<std::uint8_t>& bytes, std::string& error) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    error = path + ": no such file";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) {
+    error = path + ": cannot read the file";
+    return false;
+  }
+  return true;
+}
+
+bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes, std::string& error) {
+  const std::string temporary = path + ".tmp-" + std::to_string(std::random_device{}());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      std::remove(temporary.c_str());
+      error = path + ": cannot write the file";
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) {
+    std::remove(temporary.c_str());
+    error = path + ": cannot move the temporary file into place: " + ec.message();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace meshlift::cli
