@@ -55,9 +55,12 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
       out.coefficients.insert(out.coefficients.end(), c.payload.begin(), c.payload.end());
     } else if (c.tag == 0 && !c.complete) {
       // cut inside a chunk's tag: nothing of it is usable
-    } else if (is_critical_tag(c.tag) || c.tag == kTagHeader || c.tag == kTagBaseMesh || c.tag == kTagCoefficients) {
-      return failure(Status::corrupt, "unexpected chunk " + tag_to_string(c.tag) + " at byte " + std::to_string(c.offset));
-    }
+    } else if (c.tag == kTagHeader || c.tag == kTagBaseMesh || c.tag == kTagCoefficients) {
+      return failure(Status::corrupt, "chunk " + tag_to_string(c.tag) + " out of place at byte " + std::to_string(c.offset));
+    } else if (is_critical_tag(c.tag)) {
+      return failure(Status::unsupported_version,
+                     "unknown critical chunk " + tag_to_string(c.tag) + " at byte " + std::to_string(c.offset));
+    }  // unknown ancillary chunks are skipped (FORMAT.md §2.4)
   }
   if (out.base == nullptr || !out.base->complete)
     return failure(Status::truncated, "the stream ends before its base mesh is complete");
