@@ -73,13 +73,16 @@ WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, Wavele
 
 void LiftingStep::append_row(double scale, std::span<const std::uint32_t> sources, std::span<const double> weights) {
   const auto arity = static_cast<std::uint32_t>(sources.size());
-  std::uint32_t found = kNone;
-  for (std::uint32_t p = 0; p < patterns.size() && found == kNone; ++p) {
+  auto matches = [&](std::uint32_t p) {
     const Pattern& candidate = patterns[p];
-    if (candidate.arity == arity && candidate.scale == scale &&
-        std::equal(weights.begin(), weights.end(), pattern_weights.begin() + candidate.first_weight))
-      found = p;
-  }
+    return candidate.arity == arity && candidate.scale == scale &&
+           std::equal(weights.begin(), weights.end(), pattern_weights.begin() + candidate.first_weight);
+  };
+  // Consecutive rows mostly repeat the previous row's pattern: try it first.
+  std::uint32_t found = kNone;
+  if (!row_pattern.empty() && matches(row_pattern.back())) found = row_pattern.back();
+  for (std::uint32_t p = 0; p < patterns.size() && found == kNone; ++p)
+    if (matches(p)) found = p;
   if (found == kNone) {
     found = static_cast<std::uint32_t>(patterns.size());
     patterns.push_back({arity, static_cast<std::uint32_t>(pattern_weights.size()), scale});
