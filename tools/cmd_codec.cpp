@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 
 #include "commands.h"
 #include "files.h"
@@ -156,9 +157,18 @@ int run_truncate(const TruncateArgs& a) {
 }
 
 struct StreamArgs {
-  std::string input, directory;
+  std::string input, directory, reference, csv;
   std::size_t every = 0;
 };
+
+/// PSNR of `test` against `reference` with the same vertices in the same order:
+/// 20 log10(diagonal / RMS vertex distance) (CODEC-NOTES §7, on vertices instead of surfaces).
+double vertex_psnr(const std::vector<double>& reference, const std::vector<double>& test) {
+  double sum = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) sum += (reference[i] - test[i]) * (reference[i] - test[i]);
+  const double rms = std::sqrt(sum / static_cast<double>(reference.size() / 3));
+  return rms > 0 ? 20 * std::log10(bounding_box_diagonal(reference) / rms) : std::numeric_limits<double>::infinity();
+}
 
 int run_stream(const StreamArgs& a) {
   std::vector<std::uint8_t> file;
@@ -168,6 +178,24 @@ int run_stream(const StreamArgs& a) {
   if (ec) {
     std::cerr << "meshlift: " << a.directory << ": cannot create the directory: " << ec.message() << "\n";
     return kOutputError;
+  }
+  std::vector<double> reference;
+  if (!a.reference.empty()) {
+    try {
+      reference = read_mesh(a.reference).positions;
+    } catch (const MeshIOError& e) {
+      std::cerr << "meshlift: " << e.what() << "\n";
+      return kBadInput;
+    }
+  }
+  std::FILE* csv = nullptr;
+  if (!a.csv.empty()) {
+    csv = std::fopen(a.csv.c_str(), "w");
+    if (!csv) {
+      std::cerr << "meshlift: " << a.csv << ": cannot write the file\n";
+      return kOutputError;
+    }
+    std::fprintf(csv, "bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n");
   }
   Decoder decoder;
   std::size_t written = 0;
@@ -194,9 +222,16 @@ int run_stream(const StreamArgs& a) {
       return kOutputError;
     }
     ++written;
-    std::fprintf(stderr, "%8zu bytes: %s (%zu vertices, bit plane %d%s)\n", at, name, r.mesh.vertex_count(), r.bit_plane,
-                 r.complete ? ", complete" : "");
+    const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
+    const double psnr = reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
+                                                                     : std::numeric_limits<double>::quiet_NaN();
+    std::fprintf(stderr, "%8zu bytes (%.3f bpv): %s (%zu vertices, bit plane %d%s)", at, bpv, name,
+                 r.mesh.vertex_count(), r.bit_plane, r.complete ? ", complete" : "");
+    if (!reference.empty()) std::fprintf(stderr, ", PSNR %.2f dB", psnr);
+    std::fprintf(stderr, "\n");
+    if (csv) std::fprintf(csv, "%zu,%.4f,%zu,%d,%.3f\n", at, bpv, r.mesh.vertex_count(), r.bit_plane, psnr);
   }
+  if (csv) std::fclose(csv);
   std::fprintf(stderr, "%zu meshes written to %s\n", written, a.directory.c_str());
   return kOk;
 }
@@ -250,6 +285,9 @@ void register_stream(CLI::App& app, int& exit_code) {
   cmd->add_option("input", a->input, "input .mlz file")->required();
   cmd->add_option("--every", a->every, "bytes between snapshots")->required()->check(CLI::PositiveNumber);
   cmd->add_option("-o,--output", a->directory, "output directory")->required();
+  cmd->add_option("--reference", a->reference,
+                  "mesh with the same vertices (the encoded semi-regular mesh): print the PSNR of each snapshot");
+  cmd->add_option("--csv", a->csv, "write bytes, bits per vertex, bit plane and PSNR per snapshot to this file");
   cmd->callback([a, &exit_code] { exit_code = run_stream(*a); });
 }
 
