@@ -51,7 +51,7 @@ int main() {
   const SemiRegularMesh mesh = refine_linear(base, levels);
   const double vertices = mesh.hierarchy.vertex_count(levels);
   std::printf("base: %zu faces, %zu vertices; L = %d; finest: %.0f vertices, %zu faces\n", base.face_count(),
-              base.vertex_count(), levels, vertices, mesh.hierarchy.topology(levels).face_count());
+              base.vertex_count(), levels, vertices, mesh.hierarchy.triangles(levels).size() / 3);
   std::printf("hierarchy (all levels' connectivity + coefficient tree): %.1f bytes/vertex\n",
               mesh.hierarchy.memory_bytes() / vertices);
   std::printf("positions: %.1f bytes/vertex\n\n", 24.0);

@@ -127,7 +127,7 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     transform.synthesize(values, 3, result.level);
     values.resize(std::size_t{h.vertex_count(result.level)} * 3);
     result.mesh.positions = std::move(values);
-    result.mesh.triangles = h.topology(result.level).triangles;
+    result.mesh.triangles = h.triangles(result.level);
     result.bit_plane = decoded.last_plane;
     result.bytes_used = prefix.size();
     result.complete = decoded.complete && !stream.container.truncated();

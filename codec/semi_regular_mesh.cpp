@@ -20,9 +20,18 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
       throw MeshError("refining " + std::to_string(base.face_count()) + " faces " + std::to_string(levels) +
                       " times exceeds 2^32 indices");
   }
-  topologies_.reserve(levels + 1);
+  vertex_counts_.push_back(base.vertex_count);
+  topologies_.reserve(levels);
   topologies_.push_back(std::move(base));
-  for (int j = 0; j < levels; ++j) topologies_.push_back(topologies_.back().refined());
+  for (int j = 0; j < levels; ++j) {
+    const TriangleTopology& coarse = topologies_.back();
+    vertex_counts_.push_back(coarse.vertex_count + static_cast<std::uint32_t>(coarse.edge_count()));
+    if (j + 1 < levels)
+      topologies_.push_back(coarse.refined());
+    else
+      finest_triangles_ = coarse.refined_triangles();
+  }
+  if (levels == 0) finest_triangles_ = topologies_.back().triangles;  // the base is also the finest level
 
   // Coefficient tree (CODEC-NOTES §1): edge e of level j (j >= 1) came from edge e/2 of level j-1
   // if it is a half (e < 2E_{j-1}), else it is inner edge i of face f, parallel to face edge i.
@@ -31,7 +40,8 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
   for (int j = 1; j < levels; ++j) {
     const TriangleTopology& coarse = topologies_[j - 1];
     const auto coarse_edges = static_cast<std::uint32_t>(coarse.edge_count());
-    for (std::uint32_t e = 0; e < topologies_[j].edge_count(); ++e) {
+    const std::uint32_t edges = vertex_count(j + 1) - vertex_count(j);
+    for (std::uint32_t e = 0; e < edges; ++e) {
       std::uint32_t p;
       if (e < 2 * coarse_edges) {
         p = e / 2;
@@ -67,7 +77,7 @@ std::size_t SemiRegularHierarchy::memory_bytes() const {
   for (const auto& t : topologies_)
     bytes += (t.triangles.capacity() + t.edge_vertices.capacity() + t.edge_faces.capacity() + t.face_edges.capacity()) *
              sizeof(std::uint32_t);
-  return bytes;
+  return bytes + finest_triangles_.capacity() * sizeof(std::uint32_t);
 }
 
 TriangleMesh SemiRegularMesh::mesh_at(int level, std::span<const double> values) const {
@@ -75,7 +85,7 @@ TriangleMesh SemiRegularMesh::mesh_at(int level, std::span<const double> values)
   const std::size_t n = 3 * static_cast<std::size_t>(hierarchy.vertex_count(level));
   if (values.size() < n) throw MeshError("mesh_at: values hold fewer vertices than the level needs");
   m.positions.assign(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n));
-  m.triangles = hierarchy.topology(level).triangles;
+  m.triangles = hierarchy.triangles(level);
   return m;
 }
 
@@ -119,7 +129,7 @@ std::optional<SemiRegularMesh> recover_level_ordered(const TriangleMesh& mesh) {
     if (base_vertices > vertices) continue;
     try {
       SemiRegularHierarchy h(TriangleTopology::build(base_vertices, base), L);
-      if (h.vertex_count(L) != vertices || h.topology(L).triangles != mesh.triangles) continue;
+      if (h.vertex_count(L) != vertices || h.triangles(L) != mesh.triangles) continue;
       return SemiRegularMesh{std::move(h), mesh.positions};
     } catch (const MeshError&) {
     }

@@ -110,15 +110,36 @@ TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<c
   return t;
 }
 
+std::vector<std::uint32_t> TriangleTopology::refined_triangles() const {
+  const std::uint32_t V = vertex_count;
+  std::vector<std::uint32_t> out(12 * face_count());
+  for (std::size_t f = 0; f < face_count(); ++f) {
+    // Corner c_i keeps face (c_i, m_i, m_{i+2}); the centre face is (m_0, m_1, m_2), where m_i is
+    // the odd vertex V + e on face edge i (c_i -> c_{i+1}).
+    const std::uint32_t* c = &triangles[3 * f];
+    const std::uint32_t m[3] = {V + face_edges[3 * f], V + face_edges[3 * f + 1], V + face_edges[3 * f + 2]};
+    std::uint32_t* t = &out[12 * f];
+    for (int i = 0; i < 3; ++i) {
+      t[3 * i] = c[i];
+      t[3 * i + 1] = m[i];
+      t[3 * i + 2] = m[(i + 2) % 3];
+    }
+    t[9] = m[0];
+    t[10] = m[1];
+    t[11] = m[2];
+  }
+  return out;
+}
+
 TriangleTopology TriangleTopology::refined() const {
   const auto V = vertex_count;
   const auto E = static_cast<std::uint32_t>(edge_count());
   const auto F = static_cast<std::uint32_t>(face_count());
   TriangleTopology r;
   r.vertex_count = V + E;
+  r.triangles = refined_triangles();
   r.edge_vertices.resize(2 * (2 * E + 3 * F));
   r.edge_faces.assign(2 * (2 * E + 3 * F), kNone);
-  r.triangles.resize(3 * 4 * F);
   r.face_edges.resize(3 * 4 * F);
 
   // Halves: edge e = (a, b) with midpoint m becomes 2e = (a, m) and 2e+1 = (m, b), same direction.
@@ -130,43 +151,33 @@ TriangleTopology TriangleTopology::refined() const {
     r.edge_vertices[4 * e + 3] = b;
   }
   for (std::uint32_t f = 0; f < F; ++f) {
-    std::uint32_t c[3], m[3], half_from[3], half_to[3];
+    std::uint32_t m[3], half_from[3], half_to[3], inner[3];
     for (int i = 0; i < 3; ++i) {
-      c[i] = triangles[3 * f + i];
       const std::uint32_t e = face_edges[3 * f + i];
       m[i] = V + e;
       // The half of edge i that touches corner i, and the half that touches corner i+1.
-      const bool forward = edge_vertices[2 * e] == c[i];
+      const bool forward = edge_vertices[2 * e] == triangles[3 * f + i];
       half_from[i] = forward ? 2 * e : 2 * e + 1;
       half_to[i] = forward ? 2 * e + 1 : 2 * e;
     }
-    // Inner edge i joins m[i+2] -> m[i+1] (parallel to face edge i, run this way by the corner face).
-    std::uint32_t inner[3];
+    // Inner edge i joins m[i+2] -> m[i+1] (parallel to face edge i, run this way by a corner face).
     for (int i = 0; i < 3; ++i) {
       inner[i] = 2 * E + 3 * f + i;
       r.edge_vertices[2 * inner[i]] = m[(i + 2) % 3];
       r.edge_vertices[2 * inner[i] + 1] = m[(i + 1) % 3];
     }
-    // Corner faces: corner i keeps (c[i], m[i], m[i+2]); edges: half of edge i at c[i],
-    // inner edge i+1 (m[i] -> m[i+2]), half of edge i+2 at c[i].
+    // Corner face i (c_i, m_i, m_{i+2}): half of edge i at c_i, inner edge i+1, half of edge i+2
+    // at c_i. Centre face (m0, m1, m2): inner edges 2, 0, 1, each run backwards.
     for (int i = 0; i < 3; ++i) {
-      const std::uint32_t nf = 4 * f + i;
-      const int j = (i + 2) % 3;
-      const std::uint32_t tri[3] = {c[i], m[i], m[j]};
-      const std::uint32_t edges[3] = {half_from[i], inner[(i + 1) % 3], half_to[j]};
-      for (int k = 0; k < 3; ++k) {
-        r.triangles[3 * nf + k] = tri[k];
-        r.face_edges[3 * nf + k] = edges[k];
-      }
+      std::uint32_t* fe = &r.face_edges[3 * (4 * f + i)];
+      fe[0] = half_from[i];
+      fe[1] = inner[(i + 1) % 3];
+      fe[2] = half_to[(i + 2) % 3];
     }
-    // Centre face (m0, m1, m2): edges m0->m1 (inner 2 reversed), m1->m2 (inner 0), m2->m0 (inner 1).
-    const std::uint32_t centre = 4 * f + 3;
-    const std::uint32_t tri[3] = {m[0], m[1], m[2]};
-    const std::uint32_t edges[3] = {inner[2], inner[0], inner[1]};
-    for (int k = 0; k < 3; ++k) {
-      r.triangles[3 * centre + k] = tri[k];
-      r.face_edges[3 * centre + k] = edges[k];
-    }
+    std::uint32_t* centre = &r.face_edges[3 * (4 * f + 3)];
+    centre[0] = inner[2];
+    centre[1] = inner[0];
+    centre[2] = inner[1];
   }
   // Edge -> faces: slot 0 for the face running the edge as stored, slot 1 for the other.
   for (std::uint32_t f = 0; f < 4 * F; ++f)

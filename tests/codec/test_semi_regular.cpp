@@ -43,7 +43,11 @@ TEST_CASE("refinement keeps topology and numbers vertices level by level", "[hie
     const auto h = hierarchy_of(mesh, 4);
     for (int j = 0; j < 4; ++j) {
       const auto& c = h.topology(j);
-      const auto& f = h.topology(j + 1);
+      const TriangleTopology f = c.refined();
+      // The hierarchy stores the same faces (its finest level keeps only those).
+      CHECK(h.triangles(j + 1) == f.triangles);
+      CHECK(c.refined_triangles() == f.triangles);
+      if (j + 1 < 4) CHECK(h.topology(j + 1).edge_vertices == f.edge_vertices);
       // V_{j+1} = V_j + E_j, F_{j+1} = 4 F_j, Euler characteristic unchanged.
       CHECK(f.vertex_count == c.vertex_count + c.edge_count());
       CHECK(f.face_count() == 4 * c.face_count());

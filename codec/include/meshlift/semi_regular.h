@@ -22,11 +22,17 @@ class SemiRegularHierarchy {
   /// \throw MeshError if levels is out of range or the refined mesh would exceed 2^32 - 1 vertices.
   SemiRegularHierarchy(TriangleTopology base, int levels);
 
-  int levels() const { return static_cast<int>(topologies_.size()) - 1; }
+  int levels() const { return static_cast<int>(vertex_counts_.size()) - 1; }
   /// Number of vertices of the mesh at `level` (levels 0..levels()).
-  std::uint32_t vertex_count(int level) const { return topologies_[level].vertex_count; }
-  /// Connectivity of the mesh at `level`.
-  const TriangleTopology& topology(int level) const { return topologies_[level]; }
+  std::uint32_t vertex_count(int level) const { return vertex_counts_[level]; }
+  /// Connectivity of the mesh at `level` < levels() (and of the base when levels() == 0): the
+  /// edges that level's stencils need. The finest level keeps only its triangles (its edges would
+  /// be the largest arrays and nothing reads them): use triangles() for it.
+  const TriangleTopology& topology(int level) const { return topologies_.at(static_cast<std::size_t>(level)); }
+  /// Faces of the mesh at `level` (0..levels()), 3 indices each.
+  const std::vector<std::uint32_t>& triangles(int level) const {
+    return level == levels() ? finest_triangles_ : topologies_.at(static_cast<std::size_t>(level)).triangles;
+  }
   /// The level a vertex first appears on.
   int level_of(std::uint32_t vertex) const;
 
@@ -44,7 +50,9 @@ class SemiRegularHierarchy {
   std::size_t memory_bytes() const;
 
  private:
-  std::vector<TriangleTopology> topologies_;
+  std::vector<std::uint32_t> vertex_counts_;
+  std::vector<TriangleTopology> topologies_;  ///< levels 0 .. levels() - 1
+  std::vector<std::uint32_t> finest_triangles_;
   std::vector<std::uint32_t> parent_;
   std::vector<std::uint32_t> child_offsets_;
   std::vector<std::uint32_t> children_;

@@ -37,6 +37,8 @@ struct TriangleTopology {
   /// edges 2e (a side) and 2e+1 (b side); face f's three inner edges are 2E + 3f + i, inner edge i
   /// parallel to face edge i; face f becomes faces 4f..4f+3 (corner a, corner b, corner c, centre).
   TriangleTopology refined() const;
+  /// The faces of refined() alone (the same numbering), without its edges.
+  std::vector<std::uint32_t> refined_triangles() const;
 };
 
 /// Per-vertex facts derived from a topology: valence, boundary flag, incident edges (CSR).
