@@ -113,3 +113,54 @@ TEST_CASE("info reports topology and exits non-zero on unreadable files", "[cli]
   CHECK(run("info " + (dir / "missing.off").string()).exit_code == 3);
   fs::remove_all(dir);
 }
+
+TEST_CASE("encode, decode, truncate and stream a subdivided mesh; damaged files give numbered errors", "[cli][codec]") {
+  const fs::path dir = scratch();
+  const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
+  const std::string fine = (dir / "tet3.off").string(), mlz = (dir / "tet3.mlz").string();
+  REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme loop --levels 3").exit_code == 0);
+  // A mesh without subdivision connectivity is refused with a pointer to `subdivide`.
+  const auto refused = run("encode " + tet.string() + " -o " + mlz);
+  CHECK(refused.exit_code == 3);
+  CHECK_THAT(refused.output, Catch::Contains("subdivide"));
+  CHECK_FALSE(fs::exists(mlz));
+
+  const auto encoded = run("encode " + fine + " -o " + mlz + " --scheme butterfly");
+  REQUIRE(encoded.exit_code == 0);
+  CHECK_THAT(encoded.output, Catch::Contains("bits/vertex"));
+  const auto decoded = run("decode " + mlz + " -o " + (dir / "dec.off").string() + " --stats");
+  REQUIRE(decoded.exit_code == 0);
+  CHECK_THAT(decoded.output, Catch::Contains("vertices/s"));
+  std::istringstream header(read_file(dir / "dec.off"));
+  std::string magic;
+  int v = 0, f = 0;
+  header >> magic >> v >> f;
+  CHECK(v == 130);  // 4 + 6 + 24 + 96
+  CHECK(f == 256);
+
+  const std::size_t size = fs::file_size(mlz);
+  REQUIRE(run("truncate " + mlz + " --bytes " + std::to_string(size / 2) + " -o " + (dir / "half.mlz").string()).exit_code == 0);
+  CHECK(fs::file_size(dir / "half.mlz") <= size / 2 + 4);
+  REQUIRE(run("decode " + (dir / "half.mlz").string() + " -o " + (dir / "half_a.off").string()).exit_code == 0);
+  REQUIRE(run("decode " + mlz + " --bytes " + std::to_string(size / 2) + " -o " + (dir / "half_b.off").string()).exit_code == 0);
+  CHECK(read_file(dir / "half_a.off") == read_file(dir / "half_b.off"));
+
+  const auto streamed = run("stream " + mlz + " --every 100 -o " + (dir / "frames").string() + " --reference " + fine +
+                            " --csv " + (dir / "frames.csv").string());
+  REQUIRE(streamed.exit_code == 0);
+  CHECK(count_lines(read_file(dir / "frames.csv")) >= 2);
+
+  // Flip a byte in the last chunk's payload: checksum_mismatch, error 5, no output written.
+  std::string bytes = read_file(mlz);
+  bytes[bytes.size() - 6] = static_cast<char>(bytes[bytes.size() - 6] ^ 0x10);
+  write_file(dir / "bad.mlz", bytes);
+  const auto bad = run("decode " + (dir / "bad.mlz").string() + " -o " + (dir / "bad.off").string());
+  CHECK(bad.exit_code == 3);
+  CHECK_THAT(bad.output, Catch::Contains("checksum_mismatch (error 5)"));
+  CHECK(count_lines(bad.output) == 1);
+  CHECK_FALSE(fs::exists(dir / "bad.off"));
+  const auto not_mlz = run("decode " + tet.string() + " -o " + (dir / "x.off").string());
+  CHECK(not_mlz.exit_code == 3);
+  CHECK_THAT(not_mlz.output, Catch::Contains("bad_magic"));
+  fs::remove_all(dir);
+}
