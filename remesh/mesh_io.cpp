@@ -1,0 +1,572 @@
+#include "meshlift/mesh_io.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <iterator>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <system_error>
+
+namespace meshlift {
+namespace {
+
+namespace fs = std::filesystem;
+using OpenMesh::EdgeHandle;
+using OpenMesh::FaceHandle;
+using OpenMesh::HalfedgeHandle;
+using OpenMesh::VertexHandle;
+using OpenMesh::Vec2f;
+using OpenMesh::Vec3d;
+using OpenMesh::Vec3f;
+using OpenMesh::Vec3uc;
+using OpenMesh::Vec4f;
+using OpenMesh::Vec4uc;
+using StatusInfo = OpenMesh::Attributes::StatusInfo;
+
+/// Lower-case extension without the dot ("" if none).
+std::string extension_of(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+bool is_supported_extension(const std::string& ext) {
+  return ext == "obj" || ext == "off" || ext == "ply" || ext == "stl";
+}
+
+/// Redirects std::cout, std::clog and std::cerr (OpenMesh's omout/omlog/omerr targets, and the
+/// readers' direct std::cerr prints) into a buffer for its lifetime, so a library call never
+/// writes chatter into a CLI's stdout (e.g. `info --json`) and reader complaints can be quoted.
+class OpenMeshChatterCapture {
+ public:
+  OpenMeshChatterCapture()
+      : cout_(std::cout.rdbuf(&buffer_)), clog_(std::clog.rdbuf(&buffer_)), cerr_(std::cerr.rdbuf(&buffer_)) {}
+  ~OpenMeshChatterCapture() {
+    flush_openmesh_streams();
+    std::cout.rdbuf(cout_);
+    std::clog.rdbuf(clog_);
+    std::cerr.rdbuf(cerr_);
+  }
+  OpenMeshChatterCapture(const OpenMeshChatterCapture&) = delete;
+  OpenMeshChatterCapture& operator=(const OpenMeshChatterCapture&) = delete;
+
+  /// The last non-empty captured line that looks like a complaint, trimmed; "" if none.
+  std::string complaint() {
+    flush_openmesh_streams();
+    std::istringstream lines(buffer_.text);
+    std::string line, found;
+    while (std::getline(lines, line)) {
+      while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+      const bool chatter = line.find("read ascii") != std::string::npos ||
+                           line.find("read binary") != std::string::npos ||
+                           line.find("write ") != std::string::npos;
+      if (!line.empty() && !chatter) found = line;
+    }
+    if (found.size() > 200) found = found.substr(0, 200) + "...";
+    return found;
+  }
+
+ private:
+  static void flush_openmesh_streams() {
+    omout().flush();
+    omlog().flush();
+    omerr().flush();
+  }
+
+  /// Keeps the first 64 KiB written and discards the rest (a reader stuck printing must not
+  /// also exhaust memory).
+  struct BoundedBuffer : std::streambuf {
+    std::string text;
+    int_type overflow(int_type c) override {
+      if (c != traits_type::eof() && text.size() < 65536) text.push_back(static_cast<char>(c));
+      return traits_type::not_eof(c);
+    }
+    std::streamsize xsputn(const char* s, std::streamsize n) override {
+      text.append(s, static_cast<std::size_t>(std::min<std::streamsize>(n, std::streamsize(65536 - std::min<std::size_t>(text.size(), 65536)))));
+      return n;
+    }
+  };
+
+  BoundedBuffer buffer_;
+  std::streambuf* cout_;
+  std::streambuf* clog_;
+  std::streambuf* cerr_;
+};
+
+/// Thrown from inside an OpenMesh reader's callbacks to stop it; read_mesh turns it into MeshIOError.
+struct ReadAborted {
+  std::string message;
+};
+
+/// Records the reader's vertices and faces verbatim into a PolygonMesh. Unlike OpenMesh's
+/// ImporterT it builds no half-edge structure, so it never rejects, splits or duplicates a
+/// non-manifold face. Every other attribute (normals, colours, texture coordinates) is ignored.
+///
+/// Readers trust counts from file headers (an OFF saying 4e9 vertices loops 4e9 times even after
+/// the stream has failed), so element counts are capped by the file size: every format spends
+/// at least one byte per vertex and per face.
+class FlatImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  explicit FlatImporter(std::uintmax_t max_elements) : max_elements_(max_elements) {}
+
+  PolygonMesh mesh;
+
+  VertexHandle add_vertex(const Vec3f& p) override { return add_vertex(Vec3d(p[0], p[1], p[2])); }
+  VertexHandle add_vertex(const Vec3d& p) override {
+    if (mesh.vertex_count() >= max_elements_)
+      throw ReadAborted{"contents claim more vertices than the file has bytes"};
+    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
+    return VertexHandle(static_cast<int>(mesh.vertex_count() - 1));
+  }
+  VertexHandle add_vertex() override { return add_vertex(Vec3d(0.0, 0.0, 0.0)); }
+  void set_point(VertexHandle vh, const Vec3f& p) override {
+    if (!vh.is_valid() || static_cast<std::size_t>(vh.idx()) >= mesh.vertex_count())
+      throw ReadAborted{"reader set the position of a vertex that does not exist"};
+    for (int k = 0; k < 3; ++k) mesh.positions[3 * static_cast<std::size_t>(vh.idx()) + k] = p[k];
+  }
+
+  FaceHandle add_face(const VHandles& corners) override {
+    const std::size_t f = mesh.face_count();
+    if (f >= max_elements_) throw ReadAborted{"contents claim more faces than the file has bytes"};
+    if (corners.empty()) throw ReadAborted{"face " + std::to_string(f) + " has no corners"};
+    if (corners.size() > max_elements_ - mesh.face_indices.size())
+      throw ReadAborted{"contents claim more face corners than the file has bytes"};
+    for (const VertexHandle vh : corners) {
+      // Range is checked once reading ends (OBJ may, in principle, list vertices after faces);
+      // negative handles (OBJ index 0, unparsable numbers) become out-of-range indices.
+      mesh.face_indices.push_back(vh.idx() < 0 ? kNone : static_cast<std::uint32_t>(vh.idx()));
+    }
+    mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
+    return FaceHandle(static_cast<int>(f));
+  }
+
+  size_t n_vertices() const override { return mesh.vertex_count(); }
+  size_t n_faces() const override { return mesh.face_count(); }
+  size_t n_edges() const override { return 0; }
+
+  // Half-edge construction and attributes: not recorded.
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(HalfedgeHandle) override { throw ReadAborted{"reader needs half-edge import (unsupported)"}; }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+  // Header counts are untrusted: no reservation from them.
+  void reserve(unsigned int, unsigned int, unsigned int) override {}
+
+ private:
+  std::uintmax_t max_elements_;
+};
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+  throw MeshIOError(path + ": " + problem);
+}
+
+/// Double-precision points so nothing is lost before OpenMesh's writers take over.
+struct WriteTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+};
+using WriteMesh = OpenMesh::PolyMesh_ArrayKernelT<WriteTraits>;
+
+std::string random_suffix() {
+  std::random_device device;
+  std::ostringstream out;
+  out << std::hex;
+  out.width(8);
+  out.fill('0');
+  out << (static_cast<std::uint32_t>(device()) & 0xffffffffu);
+  return out.str();
+}
+
+
+// ---- Pre-scan of counts the OpenMesh readers would trust ----
+// OpenMesh 9's OFF and PLY readers loop over header and face-size counts without checking them
+// against the data, pushing into a vector even after the stream has failed: one corrupt count
+// (4e9 corners) exhausts memory before any importer callback can stop it. These scans walk the
+// file the way the readers do and reject any count larger than the file; every smaller count
+// is then bounded by FlatImporter's element caps. An OFF/PLY file without such counts passes.
+
+/// OFF: header line, "V F E", V vertex lines (3 floats [3 normal floats] rest-of-line), then per
+/// face "n i_1 .. i_n" [rest of line when the header has C]; n is read into an unsigned int
+/// that keeps its previous value when the read fails, as in OpenMesh's reader.
+std::string off_count_problem(const std::string& path, std::uintmax_t size) {
+  std::ifstream in(path);
+  std::string header;
+  std::getline(in, header);
+  if (header.find("BINARY") != std::string::npos) return "binary OFF is not supported";
+  const std::size_t off_at = header.find("OFF");
+  const std::string prefix = header.substr(0, off_at == std::string::npos ? 0 : off_at);
+  const bool normals = prefix.find('N') != std::string::npos;
+  const bool colors = prefix.find('C') != std::string::npos;
+  long long vertices = -1, faces = -1;
+  if (!(in >> vertices >> faces) || vertices < 0 || faces < 0)
+    return "OFF header has no vertex and face counts";
+  if (std::uintmax_t(vertices) > size || std::uintmax_t(faces) > size)
+    return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+           " faces, more than the file's " + std::to_string(size) + " bytes";
+  std::string rest;
+  in >> rest;  // edge count, unused
+  for (long long v = 0; v < vertices && in.good(); ++v) {
+    float x, y, z;
+    in >> x >> y >> z;
+    if (normals) in >> x >> y >> z;
+    std::getline(in, rest);
+  }
+  unsigned int corners = static_cast<unsigned int>(vertices);
+  for (long long f = 0; f < faces && in.good(); ++f) {
+    in >> corners;
+    if (corners > size)
+      return "face " + std::to_string(f) + " claims " + std::to_string(corners) + " corners, more than the file's " +
+             std::to_string(size) + " bytes";
+    unsigned int index = 0;  // unsigned like OpenMesh's, so "4-17" splits the same way
+    for (unsigned int c = 0; c < corners && in.good(); ++c) in >> index;
+    if (colors) std::getline(in, rest);
+  }
+  return "";
+}
+
+std::size_t ply_type_size(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+/// Reads one binary PLY scalar of `type` as a count (negative values become huge).
+std::uintmax_t ply_binary_count(const unsigned char* bytes, const std::string& type, bool big_endian) {
+  const std::size_t n = ply_type_size(type);
+  unsigned char b[8] = {};
+  for (std::size_t i = 0; i < n; ++i) b[i] = bytes[big_endian ? n - 1 - i : i];
+  std::uint64_t u = 0;
+  for (std::size_t i = n; i-- > 0;) u = (u << 8) | b[i];
+  if (type == "float" || type == "float32") {
+    float value;
+    std::uint32_t u32 = static_cast<std::uint32_t>(u);
+    std::memcpy(&value, &u32, 4);
+    return std::isfinite(value) && value >= 0 ? static_cast<std::uintmax_t>(std::min<double>(value, 1e18)) : UINTMAX_MAX;
+  }
+  if (type == "double" || type == "float64") {
+    double value;
+    std::memcpy(&value, &u, 8);
+    return std::isfinite(value) && value >= 0 ? static_cast<std::uintmax_t>(std::min(value, 1e18)) : UINTMAX_MAX;
+  }
+  const bool is_signed = type == "char" || type == "int8" || type == "short" || type == "int16" || type == "int" || type == "int32";
+  if (is_signed && (b[n - 1] & 0x80)) return UINTMAX_MAX;
+  return u;
+}
+
+/// PLY: parses the header, then walks every element item; list counts larger than the bytes
+/// left are rejected, and so are element counts larger than the file.
+std::string ply_count_problem(const std::string& path, std::uintmax_t size) {
+  struct Property {
+    std::string type, count_type;  // count_type empty for a scalar
+  };
+  struct Element {
+    std::string name;
+    std::uintmax_t count = 0;
+    std::vector<Property> properties;
+  };
+  std::ifstream in(path, std::ios::binary);
+  std::string line, format;
+  std::vector<Element> elements;
+  bool ended = false;
+  std::getline(in, line);
+  if (line != "ply" && line != "ply\r") return "not a PLY file (first line is not 'ply')";
+  // OpenMesh's header parser reads keywords until it sees "end_header" and never checks for the
+  // end of the file, so a truncated header or a property line missing a word (which shifts
+  // "end_header" into a name) spins forever: only well-formed headers go on to it.
+  const auto word_count = [](const std::string& text) {
+    std::istringstream words(text);
+    std::size_t n = 0;
+    for (std::string w; words >> w;) ++n;
+    return n;
+  };
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    const std::size_t words_on_line = word_count(line);
+    const auto malformed = [&] { return "malformed PLY header line '" + line.substr(0, 80) + "'"; };
+    if (word == "comment" || word == "obj_info") continue;
+    if (word == "format") {
+      if (words_on_line != 3) return malformed();
+      std::string version;
+      words >> format >> version;
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") return malformed();
+      if (version != "1.0") return malformed();  // an unparsable version also stalls OpenMesh's parser
+    } else if (word == "element") {
+      if (words_on_line != 3) return malformed();
+      Element e;
+      long double count = -1;
+      words >> e.name >> count;
+      if (!words || count < 0) return "PLY element line '" + line.substr(0, 80) + "' has no valid count";
+      if (count > static_cast<long double>(size))
+        return "PLY header claims " + std::to_string(static_cast<unsigned long long>(std::min<long double>(count, 1e19L))) +
+               " " + e.name + " elements, more than the file's " + std::to_string(size) + " bytes";
+      e.count = static_cast<std::uintmax_t>(count);
+      elements.push_back(e);
+    } else if (word == "property") {
+      if (elements.empty()) return "PLY property before any element";
+      Property property;
+      words >> property.type;
+      if (words_on_line != (property.type == "list" ? 5u : 3u)) return malformed();
+      if (property.type == "list") words >> property.count_type >> property.type;
+      if (ply_type_size(property.type) == 0 || (!property.count_type.empty() && ply_type_size(property.count_type) == 0))
+        return "PLY property line '" + line.substr(0, 80) + "' has an unknown type";
+      elements.back().properties.push_back(property);
+    } else if (word == "end_header") {
+      if (words_on_line != 1) return malformed();
+      ended = true;
+      break;
+    } else {
+      return malformed();
+    }
+  }
+  if (!ended) return "PLY header has no end_header line";
+  if (format.empty()) return "PLY header has no format line";
+  const auto too_long = [&](const Element& e, std::uintmax_t count) {
+    return "a " + e.name + " list claims " + std::to_string(count) + " entries, more than the file's " +
+           std::to_string(size) + " bytes";
+  };
+  if (format == "ascii") {
+    std::string token;
+    for (const Element& e : elements)
+      for (std::uintmax_t item = 0; item < e.count; ++item)
+        for (const Property& property : e.properties) {
+          if (!(in >> token)) return "";
+          if (property.count_type.empty()) continue;
+          char* end = nullptr;
+          const double count = std::strtod(token.c_str(), &end);
+          if (!(count >= 0) || count > static_cast<double>(size)) return too_long(e, count > 0 ? std::uintmax_t(std::min(count, 1e18)) : UINTMAX_MAX);
+          for (std::uintmax_t k = 0; k < static_cast<std::uintmax_t>(count); ++k)
+            if (!(in >> token)) return "";
+        }
+    return "";
+  }
+  const bool big_endian = format == "binary_big_endian";
+  std::vector<unsigned char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t at = 0;
+  for (const Element& e : elements)
+    for (std::uintmax_t item = 0; item < e.count; ++item)
+      for (const Property& property : e.properties) {
+        if (property.count_type.empty()) {
+          at += ply_type_size(property.type);
+          if (at > body.size()) return "";
+          continue;
+        }
+        const std::size_t count_size = ply_type_size(property.count_type);
+        if (at + count_size > body.size()) return "";
+        const std::uintmax_t count = ply_binary_count(&body[at], property.count_type, big_endian);
+        at += count_size;
+        if (count > (body.size() - at) / ply_type_size(property.type) + 1) return too_long(e, count);
+        at += count * ply_type_size(property.type);
+        if (at > body.size()) return "";
+      }
+  return "";
+}
+
+/// OBJ: the reader is line-based and bounded, but the Debian build of OpenMesh keeps its
+/// assertions, and a face corner carrying a texture or normal index before any vertex index on
+/// its line ("f /4 2 3") fails assert(!vhandles.empty()) and aborts the process.
+std::string obj_corner_problem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string word;
+    if (!(words >> word) || word != "f") continue;
+    bool has_vertex = false;
+    while (words >> word) {
+      const std::size_t slash = word.find('/');
+      const std::string vertex = word.substr(0, slash);
+      int value = 0;
+      if (!vertex.empty() && (slash != std::string::npos || (std::istringstream(vertex) >> value))) has_vertex = true;
+      if (slash != std::string::npos && !has_vertex && word.find_first_not_of('/', slash) != std::string::npos)
+        return "OBJ line " + std::to_string(number) + " has a face corner without a vertex index";
+    }
+  }
+  return "";
+}
+
+std::string unbounded_count_problem(const std::string& path, const std::string& ext, std::uintmax_t size) {
+  if (ext == "off") return off_count_problem(path, size);
+  if (ext == "ply") return ply_count_problem(path, size);
+  if (ext == "obj") return obj_corner_problem(path);
+  return "";  // the STL reader checks binary sizes against the file
+}
+
+}  // namespace
+
+PolygonMesh read_mesh(const std::string& path) {
+  const std::string ext = extension_of(path);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path, "no such file");
+  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) fail(path, "cannot read file size: " + ec.message());
+  if (!std::ifstream(path, std::ios::binary).is_open()) fail(path, "cannot open file for reading");
+  if (!is_supported_extension(ext))
+    fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
+  if (size == 0) fail(path, "file is empty");
+
+  const std::string unsafe = unbounded_count_problem(path, ext, size);
+  if (!unsafe.empty()) fail(path, unsafe);
+
+  FlatImporter importer(size);
+  OpenMesh::IO::Options options;  // Default: ask for no attributes.
+  bool ok = false;
+  std::string complaint;
+  {
+    OpenMeshChatterCapture capture;
+    try {
+      ok = OpenMesh::IO::IOManager().read(path, importer, options);
+    } catch (const ReadAborted& abort) {
+      fail(path, abort.message);
+    } catch (const std::exception& e) {
+      fail(path, std::string("reader failed: ") + e.what());
+    }
+    complaint = capture.complaint();
+  }
+  if (!ok)
+    fail(path, "the " + ext + " reader could not parse the file" + (complaint.empty() ? "" : " (" + complaint + ")"));
+
+  PolygonMesh mesh = std::move(importer.mesh);
+  if (mesh.vertex_count() == 0) fail(path, "file has no vertices");
+  const std::size_t vertex_count = mesh.vertex_count();
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
+      if (mesh.face_indices[c] >= vertex_count)
+        fail(path, "face " + std::to_string(f) + " references vertex " +
+                       (mesh.face_indices[c] == kNone ? std::string("(invalid)") : std::to_string(mesh.face_indices[c])) +
+                       " but the file has " + std::to_string(vertex_count) + " vertices");
+  return mesh;
+}
+
+void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) {
+  const std::string ext = extension_of(path);
+  if (!is_supported_extension(ext))
+    fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
+  if (mesh.positions.size() % 3 != 0) fail(path, "positions array length is not a multiple of 3");
+  if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 ||
+      mesh.face_offsets.back() != mesh.face_indices.size())
+    fail(path, "face_offsets does not span face_indices");
+  const std::size_t vertex_count = mesh.vertex_count();
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    if (mesh.face_offsets[f + 1] < mesh.face_offsets[f]) fail(path, "face_offsets is not increasing");
+    if (ext == "stl" && mesh.face_size(f) != 3)
+      fail(path, "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) +
+                     " corners: STL stores triangles only");
+    if (mesh.face_size(f) < 3)
+      fail(path, "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) + " corners");
+    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
+      if (mesh.face_indices[c] >= vertex_count)
+        fail(path, "face " + std::to_string(f) + " references vertex " + std::to_string(mesh.face_indices[c]) +
+                       " of " + std::to_string(vertex_count));
+      // OpenMesh's add_face does not detect a repeated corner; it would corrupt the half-edges.
+      for (std::uint32_t d = mesh.face_offsets[f]; d < c; ++d)
+        if (mesh.face_indices[d] == mesh.face_indices[c])
+          fail(path, "face " + std::to_string(f) + " repeats vertex " + std::to_string(mesh.face_indices[c]));
+    }
+  }
+
+  WriteMesh om;
+  om.reserve(vertex_count, mesh.face_indices.size(), mesh.face_count());
+  for (std::size_t v = 0; v < vertex_count; ++v)
+    om.add_vertex(WriteMesh::Point(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
+  std::vector<VertexHandle> corners;
+  {
+    OpenMeshChatterCapture capture;  // add_face reports "complex edge/vertex" on omerr
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      corners.clear();
+      for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
+        corners.push_back(VertexHandle(static_cast<int>(mesh.face_indices[c])));
+      if (!om.add_face(corners).is_valid())
+        fail(path, "face " + std::to_string(f) +
+                       " cannot be stored in OpenMesh's half-edge mesh (non-manifold or repeated corner)");
+    }
+  }
+
+  OpenMesh::IO::Options options;
+  if (binary && (ext == "ply" || ext == "stl")) options += OpenMesh::IO::Options::Binary;
+  // OpenMesh 9 writers store points as 32-bit float; 9 significant digits round-trip a float exactly.
+  const std::streamsize precision = 9;
+
+  const fs::path target(path);
+  const std::string temporary = path + ".tmp-" + random_suffix();
+  bool written = false;
+  std::string complaint;
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out.is_open()) fail(path, "cannot create temporary file " + temporary);
+    OpenMeshChatterCapture capture;
+    try {
+      written = OpenMesh::IO::write_mesh(om, out, ext, options, precision);
+    } catch (const std::exception& e) {
+      complaint = e.what();
+    }
+    out.flush();
+    written = written && out.good();
+    if (complaint.empty()) complaint = capture.complaint();
+  }
+  std::error_code ec;
+  if (!written) {
+    fs::remove(temporary, ec);
+    fail(path, "the " + ext + " writer failed" + (complaint.empty() ? "" : " (" + complaint + ")"));
+  }
+  fs::rename(temporary, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    fail(path, "cannot rename temporary file into place: " + ec.message());
+  }
+}
+
+void write_mesh(const std::string& path, const TriangleMesh& mesh, bool binary) {
+  if (mesh.triangles.size() % 3 != 0) fail(path, "triangles array length is not a multiple of 3");
+  write_mesh(path, to_polygon_mesh(mesh), binary);
+}
+
+}  // namespace meshlift

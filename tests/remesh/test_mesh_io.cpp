@@ -1,0 +1,285 @@
+// Mesh file round trips through OpenMesh's readers/writers, raw (non-manifold) reading, and
+// hostile input: missing files, unknown extensions, random and corrupted bytes.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sys/wait.h>
+#include <string>
+#include <vector>
+
+#include "meshlift/mesh_io.h"
+#include "meshlift/validate.h"
+#include "test_meshes.h"
+
+namespace fs = std::filesystem;
+using namespace meshlift;
+
+namespace {
+
+/// A fresh directory per test case, removed afterwards.
+struct ScratchDir {
+  fs::path path;
+  explicit ScratchDir(const std::string& name) {
+    path = fs::temp_directory_path() / ("meshlift_io_" + name + "_" + std::to_string(std::random_device{}()));
+    fs::create_directories(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+  std::size_t entries() const { return static_cast<std::size_t>(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
+};
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// OpenMesh 9's readers and writers carry coordinates as 32-bit floats.
+double as_float(double x) { return static_cast<double>(static_cast<float>(x)); }
+
+std::vector<std::uint32_t> corners_of(const PolygonMesh& m, std::size_t f) {
+  return {m.face_indices.begin() + m.face_offsets[f], m.face_indices.begin() + m.face_offsets[f + 1]};
+}
+
+/// Every position equals the float-rounded original, every face is identical.
+void require_same_mesh(const PolygonMesh& original, const PolygonMesh& read) {
+  REQUIRE(read.vertex_count() == original.vertex_count());
+  for (std::size_t i = 0; i < original.positions.size(); ++i) {
+    INFO("coordinate " << i);
+    REQUIRE(read.positions[i] == as_float(original.positions[i]));
+    REQUIRE(std::abs(read.positions[i] - original.positions[i]) <= 1e-6 * std::max(1.0, std::abs(original.positions[i])));
+  }
+  REQUIRE(read.face_offsets == original.face_offsets);
+  REQUIRE(read.face_indices == original.face_indices);
+}
+
+/// STL has no shared vertices: the reader merges equal points in order of first use, so compare
+/// each face corner by position and check that no vertex was lost or invented.
+void require_same_stl_mesh(const PolygonMesh& original, const PolygonMesh& read) {
+  REQUIRE(read.vertex_count() == original.vertex_count());
+  REQUIRE(read.face_count() == original.face_count());
+  for (std::size_t f = 0; f < original.face_count(); ++f) {
+    const auto a = corners_of(original, f), b = corners_of(read, f);
+    REQUIRE(a.size() == b.size());
+    for (std::size_t c = 0; c < a.size(); ++c)
+      for (int k = 0; k < 3; ++k) REQUIRE(read.positions[3 * b[c] + k] == as_float(original.positions[3 * a[c] + k]));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("every format round-trips procedural meshes", "[mesh_io]") {
+  ScratchDir dir("roundtrip");
+  struct Format {
+    std::string ext;
+    bool binary;
+  };
+  const std::vector<Format> formats = {{"obj", false}, {"off", false}, {"ply", false},
+                                       {"ply", true},  {"stl", false}, {"stl", true}};
+  const std::vector<std::pair<std::string, PolygonMesh>> meshes = {
+      {"icosahedron", to_polygon_mesh(test::icosahedron())},
+      {"torus", to_polygon_mesh(test::torus(9, 7))},
+      {"grid", to_polygon_mesh(test::grid(6))},
+      {"cube_quads", test::cube_quads()}};
+  for (const auto& [name, mesh] : meshes)
+    for (const Format& format : formats) {
+      const std::string path = dir.file(name + (format.binary ? "_bin." : ".") + format.ext);
+      DYNAMIC_SECTION(name << " as " << format.ext << (format.binary ? " binary" : " ascii")) {
+        if (format.ext == "stl" && !mesh.is_triangle_mesh()) {
+          REQUIRE_THROWS_AS(write_mesh(path, mesh, format.binary), MeshIOError);
+          REQUIRE_FALSE(fs::exists(path));
+          continue;
+        }
+        write_mesh(path, mesh, format.binary);
+        REQUIRE(dir.entries() == 1);  // no temporary left behind
+        const std::string bytes = read_bytes(path);
+        if (format.ext == "ply") REQUIRE((bytes.find("format ascii") != std::string::npos) == !format.binary);
+        if (format.ext == "stl") REQUIRE((bytes.rfind("solid", 0) == 0) == !format.binary);
+        const PolygonMesh read = read_mesh(path);
+        if (format.ext == "stl") require_same_stl_mesh(mesh, read);
+        else require_same_mesh(mesh, read);
+        fs::remove(path);
+      }
+    }
+}
+
+TEST_CASE("the TriangleMesh overload writes the same file", "[mesh_io]") {
+  ScratchDir dir("triangle_overload");
+  const TriangleMesh mesh = test::torus();
+  write_mesh(dir.file("a.off"), mesh);
+  write_mesh(dir.file("b.off"), to_polygon_mesh(mesh));
+  REQUIRE(read_bytes(dir.file("a.off")) == read_bytes(dir.file("b.off")));
+}
+
+TEST_CASE("writing replaces an existing file atomically and refuses what it cannot store", "[mesh_io]") {
+  ScratchDir dir("atomic");
+  const std::string path = dir.file("mesh.obj");
+  write_bytes(path, "old contents");
+  write_mesh(path, test::icosahedron());
+  REQUIRE(read_mesh(path).face_count() == 20);
+  REQUIRE(dir.entries() == 1);
+
+  PolygonMesh fin = to_polygon_mesh(test::disk(3));  // vertices 0 (centre), 1, 2, 3
+  fin.positions.insert(fin.positions.end(), {0, 0, -1, 0, 0, 1});
+  // Three triangles on edge (0,1): the half-edge mesh cannot hold the third; nothing is written.
+  fin.face_indices = {0, 1, 2, 1, 0, 4, 0, 1, 5};
+  fin.face_offsets = {0, 3, 6, 9};
+  REQUIRE_THROWS_AS(write_mesh(path, fin), MeshIOError);
+  REQUIRE(read_mesh(path).face_count() == 20);  // the old file is untouched
+  REQUIRE(dir.entries() == 1);
+
+  PolygonMesh repeated = to_polygon_mesh(test::icosahedron());
+  repeated.face_indices[1] = repeated.face_indices[0];
+  REQUIRE_THROWS_AS(write_mesh(dir.file("repeated.off"), repeated), MeshIOError);
+  PolygonMesh out_of_range = to_polygon_mesh(test::icosahedron());
+  out_of_range.face_indices[4] = 12;
+  REQUIRE_THROWS_AS(write_mesh(dir.file("range.off"), out_of_range), MeshIOError);
+  REQUIRE_THROWS_AS(write_mesh(dir.file("mesh.xyz"), test::icosahedron()), MeshIOError);
+  REQUIRE_THROWS_AS(write_mesh(dir.file("missing_dir/mesh.off"), test::icosahedron()), MeshIOError);
+  REQUIRE(dir.entries() == 1);
+}
+
+TEST_CASE("non-manifold files are read verbatim", "[mesh_io]") {
+  ScratchDir dir("nonmanifold");
+  // Three triangles sharing edge (0,1), plus a repeated-corner face and an isolated vertex:
+  // OpenMesh's own importer would drop faces here.
+  const std::string off = "OFF\n6 4 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n5 5 5\n3 0 1 2\n3 1 0 3\n3 0 1 4\n3 2 2 1\n";
+  write_bytes(dir.file("fin.off"), off);
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 5 5 5\nf 1 2 3\nf 2 1 4\nf 1 2 5\nf 3 3 2\n";
+  write_bytes(dir.file("fin.obj"), obj);
+  for (const std::string name : {"fin.off", "fin.obj"}) {
+    INFO(name);
+    const PolygonMesh m = read_mesh(dir.file(name));
+    REQUIRE(m.vertex_count() == 6);
+    const MeshReport r = validate_mesh(m);
+    REQUIRE(r.non_manifold_edges == 1);
+    if (name == "fin.off") {
+      REQUIRE(m.face_indices == std::vector<std::uint32_t>{0, 1, 2, 1, 0, 3, 0, 1, 4, 2, 2, 1});
+      REQUIRE(r.degenerate_faces == 1);
+    } else {
+      // OpenMesh's OBJ reader itself drops a face with a repeated corner before the importer sees it.
+      REQUIRE(m.face_indices == std::vector<std::uint32_t>{0, 1, 2, 1, 0, 3, 0, 1, 4});
+    }
+    REQUIRE(r.isolated_vertices == 1);
+  }
+}
+
+TEST_CASE("unreadable input gives MeshIOError naming the file", "[mesh_io]") {
+  ScratchDir dir("errors");
+  const auto message_of = [](const std::string& path) {
+    try {
+      read_mesh(path);
+    } catch (const MeshIOError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string missing = dir.file("missing.off");
+  REQUIRE_THAT(message_of(missing), Catch::Contains(missing) && Catch::Contains("no such file"));
+  write_bytes(dir.file("mesh.xyz"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  REQUIRE_THAT(message_of(dir.file("mesh.xyz")), Catch::Contains("unknown mesh file extension"));
+  REQUIRE_THAT(message_of(dir.path.string()), Catch::Contains("directory"));
+  write_bytes(dir.file("empty.ply"), "");
+  REQUIRE_THAT(message_of(dir.file("empty.ply")), Catch::Contains("empty"));
+  write_bytes(dir.file("range.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  REQUIRE_THAT(message_of(dir.file("range.off")), Catch::Contains("face 0 references vertex 7"));
+  write_bytes(dir.file("zero.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n");
+  REQUIRE_THAT(message_of(dir.file("zero.obj")), Catch::Contains("face 0 references vertex"));
+  // Thrown from inside OpenMesh's reader callbacks and carried out through its frames.
+  write_bytes(dir.file("empty_face.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n0\n");
+  REQUIRE_THAT(message_of(dir.file("empty_face.off")), Catch::Contains("face 0 has no corners"));
+  write_bytes(dir.file("slash.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n");
+  REQUIRE_THAT(message_of(dir.file("slash.obj")), Catch::Contains("without a vertex index"));
+  write_bytes(dir.file("header.ply"), "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  REQUIRE_THAT(message_of(dir.file("header.ply")), Catch::Contains("end_header"));
+  write_bytes(dir.file("novertex.obj"), "# nothing here\n");
+  REQUIRE_THAT(message_of(dir.file("novertex.obj")), Catch::Contains("no vertices"));
+  write_bytes(dir.file("bomb.off"), "OFF\n4000000000 4000000000 0\n1 2 3\n");
+  REQUIRE_THAT(message_of(dir.file("bomb.off")), Catch::Contains("claims"));
+  write_bytes(dir.file("corners.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n");
+  REQUIRE_THAT(message_of(dir.file("corners.off")), Catch::Contains("claims"));
+  write_bytes(dir.file("bomb.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
+  REQUIRE_THAT(message_of(dir.file("bomb.ply")), Catch::Contains("claims"));
+}
+
+TEST_CASE("random bytes never crash the readers", "[mesh_io]") {
+  ScratchDir dir("random");
+  std::mt19937 rng(7);
+  for (const std::string ext : {"off", "obj", "ply", "stl", "OFF"})
+    for (int trial = 0; trial < 8; ++trial) {
+      std::string bytes(1 + rng() % 4000, '\0');
+      for (char& c : bytes) c = static_cast<char>(rng());
+      const std::string path = dir.file("garbage" + std::to_string(trial) + "." + ext);
+      write_bytes(path, bytes);
+      INFO(path);
+      REQUIRE_THROWS_AS(read_mesh(path), MeshIOError);
+    }
+}
+
+TEST_CASE("truncated and corrupted files either read consistently or throw MeshIOError", "[mesh_io]") {
+  ScratchDir dir("corrupt");
+  const TriangleMesh mesh = test::torus(5, 4);
+  std::mt19937 rng(11);
+  for (const auto& [ext, binary] : std::vector<std::pair<std::string, bool>>{
+           {"obj", false}, {"off", false}, {"ply", false}, {"ply", true}, {"stl", false}, {"stl", true}}) {
+    const std::string source = dir.file(std::string("source") + (binary ? "_bin." : ".") + ext);
+    write_mesh(source, mesh, binary);
+    const std::string bytes = read_bytes(source);
+    const std::string path = dir.file("corrupt." + ext);
+    for (int trial = 0; trial < 60; ++trial) {
+      std::string damaged = bytes;
+      if (trial % 3 == 0) {
+        damaged.resize(rng() % bytes.size());
+      } else {
+        for (int k = 0; k < 1 + trial % 5; ++k) damaged[rng() % damaged.size()] = static_cast<char>(rng());
+      }
+      write_bytes(path, damaged);
+      INFO(ext << (binary ? " binary" : "") << " trial " << trial);
+      try {
+        const PolygonMesh m = read_mesh(path);
+        REQUIRE(m.vertex_count() > 0);
+        REQUIRE(m.face_offsets.back() == m.face_indices.size());
+        for (const std::uint32_t index : m.face_indices) REQUIRE(index < m.vertex_count());
+        validate_mesh(m);
+      } catch (const MeshIOError&) {
+      }
+    }
+  }
+}
+
+TEST_CASE("meshlift info prints a report or a one-line error", "[mesh_io][cli]") {
+  ScratchDir dir("cli");
+  const std::string mesh_path = dir.file("torus.off");
+  write_mesh(mesh_path, test::torus());
+  const std::string out = dir.file("out.txt"), err = dir.file("err.txt");
+  const auto run = [&](const std::string& args) {
+    const std::string command = std::string(MESHLIFT_CLI) + " info " + args + " >" + out + " 2>" + err;
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  REQUIRE(run(mesh_path) == 0);
+  REQUIRE_THAT(read_bytes(out), Catch::Contains("genus 1"));
+  REQUIRE(run("--json " + mesh_path) == 0);
+  REQUIRE(read_bytes(out).rfind("{", 0) == 0);
+  REQUIRE_THAT(read_bytes(out), Catch::Contains("\"genus\": 1"));
+  REQUIRE(read_bytes(err).empty());
+
+  REQUIRE(run(dir.file("missing.off")) == 3);
+  REQUIRE(read_bytes(err) == "meshlift: " + dir.file("missing.off") + ": no such file\n");
+  REQUIRE(read_bytes(out).empty());
+  write_bytes(dir.file("stream.mlz"), "MLZ");
+  REQUIRE(run(dir.file("stream.mlz")) == 3);
+  REQUIRE_THAT(read_bytes(err), Catch::Contains("not supported"));
+}
