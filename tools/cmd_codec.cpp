@@ -75,7 +75,7 @@ int run_encode(const EncodeArgs& a) {
   std::size_t base_bytes = 0;
   for (const auto& c : info.chunks)
     if (c.tag == "HEAD" || c.tag == "BASE") base_bytes += c.size;
-  std::fprintf(stderr, "%s: %zu vertices, %d levels, %s -> %s: %zu bytes, %.3f bits/vertex (header + base mesh %.1f %%), %.2f s\n",
+  std::fprintf(stderr, "%s: %zu vertices, %d levels, %s -> %s: %zu bytes, %.3f bits/vertex (header + base connectivity %.1f %%), %.2f s\n",
                a.input.c_str(), vertices, mesh->hierarchy.levels(), a.scheme.c_str(), a.output.c_str(), file.size(),
                8.0 * static_cast<double>(file.size()) / static_cast<double>(vertices),
                100.0 * static_cast<double>(base_bytes) / static_cast<double>(file.size()), seconds);

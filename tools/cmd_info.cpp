@@ -1,4 +1,5 @@
-// `meshlift info FILE [--json]`: reads a mesh file and prints its validation report.
+// `meshlift info FILE [--json]`: a mesh file's validation report, or a .mlz stream's header,
+// levels, chunks and base-mesh share.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -7,6 +8,8 @@
 #include <string>
 
 #include "commands.h"
+#include "files.h"
+#include "meshlift/codec.h"
 #include "meshlift/mesh_io.h"
 #include "meshlift/validate.h"
 
@@ -24,11 +27,58 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-int run_info(const InfoOptions& options) {
-  if (lower_extension(options.file) == ".mlz") {
-    // Compressed streams: the container reader is not built yet; `info` will report the header here.
-    std::cerr << "meshlift: " << options.file << ": .mlz files are not supported by info yet\n";
+bool is_stream(const std::vector<std::uint8_t>& bytes) {
+  return bytes.size() >= 4 && bytes[0] == 'M' && bytes[1] == 'L' && bytes[2] == 'Z' && bytes[3] == 0x1A;
+}
+
+int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>& bytes) {
+  const StreamInfo info = inspect(bytes);
+  std::size_t base_bytes = 0;
+  for (const auto& c : info.chunks)
+    if (c.tag == "HEAD" || c.tag == "BASE") base_bytes += c.size;
+  const double share = bytes.empty() ? 0.0 : 100.0 * static_cast<double>(base_bytes) / static_cast<double>(bytes.size());
+  if (options.json) {
+    std::cout << "{\n  \"status\": \"" << to_string(info.status) << "\",\n  \"bytes\": " << bytes.size()
+              << ",\n  \"scheme\": \"" << to_string(info.scheme) << "\",\n  \"mean_preserving_update\": "
+              << (info.mean_preserving_update ? "true" : "false") << ",\n  \"levels\": " << info.levels
+              << ",\n  \"base_vertices\": " << info.base_vertices << ",\n  \"base_faces\": " << info.base_faces
+              << ",\n  \"vertices\": " << info.vertices << ",\n  \"faces\": " << info.faces
+              << ",\n  \"step\": " << info.step << ",\n  \"top_plane\": " << info.top_plane
+              << ",\n  \"base_share_percent\": " << share << ",\n  \"chunks\": [";
+    for (std::size_t i = 0; i < info.chunks.size(); ++i)
+      std::cout << (i ? ", " : "") << "{\"tag\": \"" << info.chunks[i].tag << "\", \"offset\": " << info.chunks[i].offset
+                << ", \"size\": " << info.chunks[i].size << ", \"complete\": " << (info.chunks[i].complete ? "true" : "false")
+                << "}";
+    std::cout << "]\n}\n";
+  } else {
+    std::cout << options.file << ": meshlift stream, " << bytes.size() << " bytes\n";
+    if (info.status != Status::ok) std::cout << "  status:       " << to_string(info.status) << ": " << info.message << "\n";
+    std::cout << "  wavelet:      " << to_string(info.scheme) << (info.mean_preserving_update ? " + mean-preserving update" : "")
+              << "\n  levels:       " << info.levels << "\n  base mesh:    " << info.base_vertices << " vertices, "
+              << info.base_faces << " faces\n  finest mesh:  " << info.vertices << " vertices, " << info.faces
+              << " faces\n  quantization: step " << info.step << " (normalized), top bit plane " << info.top_plane
+              << "\n  header + base connectivity: " << base_bytes << " bytes (" << share << " % of the file)\n  chunks:\n";
+    for (const auto& c : info.chunks)
+      std::cout << "    " << c.tag << " at " << c.offset << ": " << c.size << " bytes" << (c.complete ? "" : " (incomplete)")
+                << "\n";
+  }
+  if (info.status != Status::ok) {
+    std::cerr << "meshlift: " << options.file << ": " << to_string(info.status) << " (error "
+              << static_cast<int>(info.status) << "): " << info.message << "\n";
     return kBadInput;
+  }
+  return kOk;
+}
+
+int run_info(const InfoOptions& options) {
+  std::vector<std::uint8_t> head;
+  std::string error;
+  if (lower_extension(options.file) == ".mlz" || (read_bytes(options.file, head, error) && is_stream(head))) {
+    if (head.empty() && !read_bytes(options.file, head, error)) {
+      std::cerr << "meshlift: " << error << "\n";
+      return kBadInput;
+    }
+    return run_stream_info(options, head);
   }
   MeshReport report;
   try {
@@ -46,7 +96,7 @@ int run_info(const InfoOptions& options) {
 
 void register_info(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<InfoOptions>();
-  CLI::App* info = app.add_subcommand("info", "Read a mesh file (obj, off, ply, stl) and report its topology and defects");
+  CLI::App* info = app.add_subcommand("info", "Report a mesh file's topology and defects (obj, off, ply, stl), or a .mlz stream's header and chunks");
   info->add_option("FILE", options->file, "Mesh file to inspect")->required();
   info->add_flag("--json", options->json, "Print the report as JSON");
   info->callback([options, &exit_code] { exit_code = run_info(*options); });
