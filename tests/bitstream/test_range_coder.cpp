@@ -167,7 +167,7 @@ TEST_CASE("range coder: a stream cut at any byte decodes to a prefix of the symb
   CHECK(increases > bytes.size() / 2);  // nearly every byte adds symbols
 }
 
-TEST_CASE("range coder: once exhausted, decoding returns 0 without consuming or adapting", "[range_coder][truncation]") {
+TEST_CASE("range coder: once exhausted - decoding returns 0 without consuming or adapting", "[range_coder][truncation]") {
   const auto symbols = make_symbols(5000, 5);
   const auto bytes = encode_symbols(symbols);
   RangeDecoder decoder{std::span<const std::uint8_t>(bytes).first(bytes.size() / 2)};
@@ -185,7 +185,7 @@ TEST_CASE("range coder: once exhausted, decoding returns 0 without consuming or 
   CHECK(model.count == before.count);
 }
 
-TEST_CASE("range coder: short, empty and malformed streams", "[range_coder][robustness]") {
+TEST_CASE("range coder: short - empty and malformed streams", "[range_coder][robustness]") {
   BitModel model;
   RangeDecoder empty;
   CHECK(empty.exhausted());

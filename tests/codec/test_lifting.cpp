@@ -77,7 +77,7 @@ std::vector<std::pair<std::string, TriangleMesh>> oracle_meshes() {
 
 }  // namespace
 
-TEST_CASE("synthesize(analyze(x)) == x for every scheme, random fine positions", "[lifting]") {
+TEST_CASE("synthesize(analyze(x)) == x for every scheme - random fine positions", "[lifting]") {
   std::vector<std::pair<std::string, TriangleMesh>> meshes = {
       {"icosahedron", test::icosahedron()}, {"torus", test::torus()}, {"grid", test::grid(4)}};
   for (int k = 3; k <= 12; ++k) {

@@ -17,7 +17,7 @@ long euler(const TriangleTopology& t) {
 }
 }  // namespace
 
-TEST_CASE("topology rejects what is not a manifold, consistently oriented triangle mesh", "[topology]") {
+TEST_CASE("topology rejects what is not a manifold - consistently oriented triangle mesh", "[topology]") {
   const std::vector<std::uint32_t> fin = {0, 1, 2, 1, 0, 3, 0, 1, 4};  // three faces on edge (0,1)
   CHECK_THROWS_WITH(TriangleTopology::build(5, fin), Catch::Contains("non-manifold edge (0, 1)"));
   const std::vector<std::uint32_t> flipped = {0, 1, 2, 0, 1, 3};  // both run 0 -> 1
@@ -71,7 +71,7 @@ TEST_CASE("refinement keeps topology and numbers vertices level by level", "[hie
   }
 }
 
-TEST_CASE("coefficient tree: 4 children per interior odd vertex, 3 on the boundary, partition of each level", "[hierarchy]") {
+TEST_CASE("coefficient tree: 4 children per interior odd vertex - 3 on the boundary - partition of each level", "[hierarchy]") {
   const auto h = hierarchy_of(test::grid(3), 3);
   for (int j = 1; j < 3; ++j) {
     std::set<std::uint32_t> seen;

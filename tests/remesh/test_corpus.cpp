@@ -86,7 +86,7 @@ OpenMeshCounts count_with_openmesh(const std::string& path) {
 
 }  // namespace
 
-TEST_CASE("corpus meshes: expected topology, and agreement with OpenMesh", "[corpus]") {
+TEST_CASE("corpus meshes: expected topology - and agreement with OpenMesh", "[corpus]") {
   const char* corpus = std::getenv("MESHLIFT_CORPUS");
   if (corpus == nullptr || *corpus == '\0')
     FAIL("MESHLIFT_CORPUS is not set: point it at the directory of libcgal-demo's .off meshes "

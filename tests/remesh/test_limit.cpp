@@ -308,7 +308,7 @@ TEST_CASE("Catmull-Clark limit points are where subdivision converges", "[remesh
   }
 }
 
-TEST_CASE("1D cubic B-spline: a polyline converges to (1/6, 4/6, 1/6)", "[remesh][limit]") {
+TEST_CASE("1D cubic B-spline: a polyline converges to (1/6 4/6 1/6)", "[remesh][limit]") {
   // Closed polyline refined with (1/8, 3/4, 1/8) at old points and midpoints at new ones (seed 004).
   std::vector<double> points = {0.0, 1.0, 0.3, -0.7, 2.0, 1.1, -0.4};
   const std::size_t n = points.size();
@@ -332,7 +332,7 @@ TEST_CASE("1D cubic B-spline: a polyline converges to (1/6, 4/6, 1/6)", "[remesh
   for (std::size_t i = 0; i < n; ++i) CHECK(std::abs(points[i << levels] - limit[i]) < 1e-9);
 }
 
-TEST_CASE("LimitStencil rows, apply and errors", "[remesh][limit]") {
+TEST_CASE("LimitStencil rows - apply and errors", "[remesh][limit]") {
   const TriangleMesh disk = test::disk(6);
   const LimitStencil stencil = loop_limit_stencil(disk);
   REQUIRE(stencil.vertex_count() == disk.vertex_count());

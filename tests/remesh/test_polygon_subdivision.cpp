@@ -263,7 +263,7 @@ TEST_CASE("catmull_clark keeps isolated vertices and rejects bad input", "[remes
   CHECK_THROWS_AS(catmull_clark(repeated, 1), MeshError);
 }
 
-TEST_CASE("doo_sabin on a single quad matches (9, 3, 3, 1)/16", "[remesh][doo_sabin]") {
+TEST_CASE("doo_sabin on a single quad matches (9 3 3 1)/16", "[remesh][doo_sabin]") {
   PolygonMesh quad;
   quad.positions = {0, 0, 0.1, 1.3, 0, -0.2, 1.1, 0.9, 0.4, -0.2, 1.2, 0};
   quad.face_indices = {0, 1, 2, 3};

@@ -189,7 +189,7 @@ class JsonChecker {
 
 }  // namespace
 
-TEST_CASE("closed surfaces: icosahedron, bicone, torus, genus 2 and 3 voxel slabs", "[validate]") {
+TEST_CASE("closed surfaces: icosahedron - bicone - torus - genus 2 and 3 voxel slabs", "[validate]") {
   const MeshReport ico = validate_mesh(test::icosahedron());
   require_closed_genus(ico, 0);
   REQUIRE(ico.vertices == 12);
@@ -264,7 +264,7 @@ TEST_CASE("three triangles on one edge: a non-manifold edge", "[validate]") {
   REQUIRE(first_problem_for_triangle_codec(r) == "1 non-manifold edge");
 }
 
-TEST_CASE("two tetrahedra sharing one vertex: a pinched, non-manifold vertex", "[validate]") {
+TEST_CASE("two tetrahedra sharing one vertex: a pinched - non-manifold vertex", "[validate]") {
   TriangleMesh m;
   append_tetrahedron(m, 0.0);
   append_tetrahedron(m, -1.0, 0);  // second tetrahedron's first corner is vertex 0
@@ -314,7 +314,7 @@ TEST_CASE("a Möbius strip is not orientable", "[validate]") {
   REQUIRE(cylinder.components.at(0).genus == 0);
 }
 
-TEST_CASE("vertex defects: NaN, duplicates, isolated", "[validate]") {
+TEST_CASE("vertex defects: NaN - duplicates - isolated", "[validate]") {
   TriangleMesh nan = test::icosahedron();
   nan.positions[4] = std::numeric_limits<double>::quiet_NaN();
   nan.positions[9] = std::numeric_limits<double>::infinity();
@@ -336,7 +336,7 @@ TEST_CASE("vertex defects: NaN, duplicates, isolated", "[validate]") {
   REQUIRE(first_problem_for_triangle_codec(d).empty());  // harmless for the codec
 }
 
-TEST_CASE("face defects: repeated index, zero area, out-of-range index", "[validate]") {
+TEST_CASE("face defects: repeated index - zero area - out-of-range index", "[validate]") {
   TriangleMesh m = test::icosahedron();
   m.triangles.insert(m.triangles.end(), {0, 0, 1});
   const MeshReport degenerate = validate_mesh(m);
@@ -363,7 +363,7 @@ TEST_CASE("face defects: repeated index, zero area, out-of-range index", "[valid
   REQUIRE_THAT(first_problem_for_triangle_codec(bad), Catch::StartsWith("2 face corners reference vertices"));
 }
 
-TEST_CASE("empty and malformed arrays are reported, not trusted", "[validate]") {
+TEST_CASE("empty and malformed arrays are reported - not trusted", "[validate]") {
   const MeshReport empty = validate_mesh(PolygonMesh{});
   REQUIRE(empty.vertices == 0);
   REQUIRE(empty.faces == 0);

@@ -73,7 +73,7 @@ TEST_CASE("subdivide writes the refined mesh and refuses to overwrite its input"
   fs::remove_all(dir);
 }
 
-TEST_CASE("bad input gets a one-line message and a non-zero exit, no output file", "[cli]") {
+TEST_CASE("bad input gets a one-line message and a non-zero exit - no output file", "[cli]") {
   const fs::path dir = scratch();
   const fs::path out = dir / "out.off";
   struct Case {
@@ -114,7 +114,7 @@ TEST_CASE("info reports topology and exits non-zero on unreadable files", "[cli]
   fs::remove_all(dir);
 }
 
-TEST_CASE("encode, decode, truncate and stream a subdivided mesh; damaged files give numbered errors", "[cli][codec]") {
+TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged files give numbered errors", "[cli][codec]") {
   const fs::path dir = scratch();
   const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
   const std::string fine = (dir / "tet3.off").string(), mlz = (dir / "tet3.mlz").string();
