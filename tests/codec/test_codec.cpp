@@ -229,3 +229,23 @@ TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
   REQUIRE(a.status == Status::ok);
   CHECK(a.mesh.positions == b.mesh.positions);
 }
+
+TEST_CASE("embedded-stream cost: a prefix is within 0.3 dB of a file encoded directly at that size", "[codec][prefix]") {
+  // "Directly" = encoded at a coarser precision whose whole stream has that size; the prefix of
+  // the 16-bit stream must do as well, or within 0.3 dB.
+  const SemiRegularMesh mesh = bumpy(test::icosahedron(), 4);
+  const auto full = encode(mesh, {});
+  const double diagonal = bounding_box_diagonal(mesh.positions);
+  auto psnr = [&](const DecodeResult& r) { return 20 * std::log10(diagonal / rms_error(r.mesh.positions, mesh.positions)); };
+  for (int bits : {8, 10, 12, 14}) {
+    EncodeOptions direct_options;
+    direct_options.precision_bits = bits;
+    const auto direct = encode(mesh, direct_options);
+    DecodeOptions prefix;
+    prefix.max_bytes = direct.size();
+    const double direct_db = psnr(decode(direct)), prefix_db = psnr(decode(full, prefix));
+    std::printf("embedded cost, %2d bits: %5zu bytes, direct %.2f dB, prefix of the 16-bit stream %.2f dB\n", bits,
+                direct.size(), direct_db, prefix_db);
+    CHECK(prefix_db >= direct_db - 0.3);
+  }
+}
