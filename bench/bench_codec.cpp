@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "test_meshes.h"
 #include "meshlift/codec.h"
 
 using namespace meshlift;
@@ -20,12 +21,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // Icosahedron refined twice (320 faces), Loop-subdivided 7 levels and displaced by a smooth
 // bumpy field plus a small deterministic roughness: 2.6 M vertices with detail at every level.
 SemiRegularMesh test_mesh(int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriangleMesh m;
-  m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
-                 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-  m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-                 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  const TriangleMesh m = test::icosahedron();
   const TriangleMesh base = refine_linear(m, 2).finest();
   SemiRegularMesh mesh = refine_linear(base, levels);
   std::fill(mesh.positions.begin() + static_cast<std::ptrdiff_t>(base.positions.size()), mesh.positions.end(), 0.0);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 
+#include "test_meshes.h"
 #include "meshlift/lifting.h"
 
 using namespace meshlift;
@@ -17,12 +18,7 @@ namespace {
 
 // Icosahedron refined twice (320 faces, base valences 5 and 6): the ~500-face base of the issue.
 TriangleMesh base_mesh() {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriangleMesh m;
-  m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
-                 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-  m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-                 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  const TriangleMesh m = test::icosahedron();
   return refine_linear(m, 2).finest();
 }
 

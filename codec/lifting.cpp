@@ -15,6 +15,8 @@
 // wavelet (the seed's 1/24 counts an even vertex's six odd neighbours, U 1, where U^T 1 belongs).
 // It preserves sum(fine) = sum_l (1 + c_l) coarse(l) exactly; tests/codec/test_lifting.cpp checks it.
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "meshlift/lifting.h"
@@ -32,6 +34,11 @@ const char* to_string(Scheme scheme) {
       return "loop";
   }
   return "?";
+}
+
+double loop_beta(unsigned n) {
+  const double c = 3.0 / 8 + 0.25 * std::cos(2.0 * std::numbers::pi / n);
+  return (5.0 / 8 - c * c) / n;
 }
 
 Scheme parse_scheme(const std::string& name) {

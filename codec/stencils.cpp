@@ -149,11 +149,6 @@ void butterfly_row(const TriangleTopology& t, const VertexEdges& ve, std::uint32
 
 }  // namespace
 
-double loop_beta(unsigned n) {
-  const double c = 3.0 / 8 + 0.25 * std::cos(2.0 * std::numbers::pi / n);
-  return (5.0 / 8 - c * c) / n;
-}
-
 LiftingStep predict(const TriangleTopology& t, const VertexEdges& ve, Scheme scheme) {
   LiftingStep step = empty_step(t.vertex_count, t.edge_count(), 4);
   RowBuilder row;

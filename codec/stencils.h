@@ -21,7 +21,4 @@ LiftingStep loop_update(const TriangleTopology& topology, const VertexEdges& ver
 LiftingStep mean_preserving_update(const TriangleTopology& topology, const VertexEdges& vertex_edges,
                                    const LiftingStep& predict);
 
-/// Loop's beta_n = (1/n) (5/8 - (3/8 + cos(2 pi / n) / 4)^2) (Loop 1987; CODEC-NOTES §2).
-double loop_beta(unsigned valence);
-
 }  // namespace meshlift::stencils

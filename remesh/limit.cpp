@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "meshlift/lifting.h"
 #include "meshlift/polygon_subdivision.h"
 
 namespace meshlift {
@@ -37,6 +38,30 @@ void check_sizes(const LimitStencil& stencil, std::span<const double> control, s
   if (control.size() != expected || limit.size() != expected)
     throw std::invalid_argument("limit stencil: expected " + std::to_string(expected) + " coordinates, got " +
                                 std::to_string(control.size()) + " in and " + std::to_string(limit.size()) + " out");
+}
+
+/// One row per vertex: isolated and boundary vertices by the shared rules above, an interior
+/// vertex by `interior(stencil, v, start)`, which appends its entries walking the fan from
+/// half-edge `start`.
+template <class InteriorRow>
+LimitStencil build_rows(const PolygonMesh& mesh, const PolygonTopology& topology, std::size_t entries,
+                        InteriorRow interior) {
+  LimitStencil stencil;
+  const std::size_t vertex_count = mesh.vertex_count();
+  stencil.row_offsets.reserve(vertex_count + 1);
+  stencil.indices.reserve(entries);
+  stencil.weights.reserve(entries);
+  for (std::uint32_t v = 0; v < vertex_count; ++v) {
+    const std::uint32_t start = topology.outgoing[v];
+    if (start == kNone)
+      append_isolated_row(stencil, v);
+    else if (topology.boundary[v])
+      append_boundary_row(stencil, mesh, topology, v);
+    else
+      interior(stencil, v, start);
+    close_row(stencil);
+  }
+  return stencil;
 }
 
 }  // namespace
@@ -73,39 +98,25 @@ LimitStencil loop_limit_stencil(const TriangleMesh& mesh) {
         table.push_back({1, 0});
         continue;
       }
-      const double c = 3.0 / 8.0 + 0.25 * std::cos(2 * M_PI / k);
-      const double beta = (5.0 / 8.0 - c * c) / k;
+      const double beta = loop_beta(static_cast<unsigned>(k));
       const double denominator = 3 + 8 * k * beta;
       table.push_back({3 / denominator, 8 * beta / denominator});
     }
     return table[n];
   };
 
-  LimitStencil stencil;
-  const std::size_t vertex_count = mesh.vertex_count();
-  stencil.row_offsets.reserve(vertex_count + 1);
-  stencil.indices.reserve(vertex_count + polygons.face_indices.size());
-  stencil.weights.reserve(vertex_count + polygons.face_indices.size());
-  for (std::uint32_t v = 0; v < vertex_count; ++v) {
-    const std::uint32_t start = topology.outgoing[v];
-    if (start == kNone) {
-      append_isolated_row(stencil, v);
-    } else if (topology.boundary[v]) {
-      append_boundary_row(stencil, polygons, topology, v);
-    } else {
-      const Weights& w = weights_for(topology.face_count_at[v]);
-      stencil.indices.push_back(v);
-      stencil.weights.push_back(w.self);
-      std::uint32_t h = start;
-      do {
-        stencil.indices.push_back(polygons.face_indices[topology.next[h]]);
-        stencil.weights.push_back(w.ring);
-        h = topology.rotate(h);
-      } while (h != start);
-    }
-    close_row(stencil);
-  }
-  return stencil;
+  return build_rows(polygons, topology, mesh.vertex_count() + polygons.face_indices.size(),
+                    [&](LimitStencil& stencil, std::uint32_t v, std::uint32_t start) {
+                      const Weights& w = weights_for(topology.face_count_at[v]);
+                      stencil.indices.push_back(v);
+                      stencil.weights.push_back(w.self);
+                      std::uint32_t h = start;
+                      do {
+                        stencil.indices.push_back(polygons.face_indices[topology.next[h]]);
+                        stencil.weights.push_back(w.ring);
+                        h = topology.rotate(h);
+                      } while (h != start);
+                    });
 }
 
 LimitStencil catmull_clark_limit_stencil(const PolygonMesh& quad_mesh) {
@@ -130,33 +141,21 @@ LimitStencil catmull_clark_limit_stencil(const PolygonMesh& quad_mesh) {
     return table[n];
   };
 
-  LimitStencil stencil;
-  const std::size_t vertex_count = quad_mesh.vertex_count();
-  stencil.row_offsets.reserve(vertex_count + 1);
-  stencil.indices.reserve(vertex_count + 2 * quad_mesh.face_indices.size());
-  stencil.weights.reserve(vertex_count + 2 * quad_mesh.face_indices.size());
   const auto& index = quad_mesh.face_indices;
-  for (std::uint32_t v = 0; v < vertex_count; ++v) {
-    const std::uint32_t start = topology.outgoing[v];
-    if (start == kNone) {
-      append_isolated_row(stencil, v);
-    } else if (topology.boundary[v]) {
-      append_boundary_row(stencil, quad_mesh, topology, v);
-    } else {
-      const Weights& w = weights_for(topology.face_count_at[v]);
-      stencil.indices.push_back(v);
-      stencil.weights.push_back(w.self);
-      std::uint32_t h = start;
-      do {
-        // Quad (v, e_i, f_i, e_{i+1}) seen from its half-edge h = (v -> e_i).
-        stencil.indices.insert(stencil.indices.end(), {index[topology.next[h]], index[topology.next[topology.next[h]]]});
-        stencil.weights.insert(stencil.weights.end(), {w.edge, w.diagonal});
-        h = topology.rotate(h);
-      } while (h != start);
-    }
-    close_row(stencil);
-  }
-  return stencil;
+  return build_rows(quad_mesh, topology, quad_mesh.vertex_count() + 2 * index.size(),
+                    [&](LimitStencil& stencil, std::uint32_t v, std::uint32_t start) {
+                      const Weights& w = weights_for(topology.face_count_at[v]);
+                      stencil.indices.push_back(v);
+                      stencil.weights.push_back(w.self);
+                      std::uint32_t h = start;
+                      do {
+                        // Quad (v, e_i, f_i, e_{i+1}) seen from its half-edge h = (v -> e_i).
+                        stencil.indices.insert(stencil.indices.end(),
+                                               {index[topology.next[h]], index[topology.next[topology.next[h]]]});
+                        stencil.weights.insert(stencil.weights.end(), {w.edge, w.diagonal});
+                        h = topology.rotate(h);
+                      } while (h != start);
+                    });
 }
 
 TriangleMesh loop_limit(const TriangleMesh& mesh) {

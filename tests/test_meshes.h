@@ -109,4 +109,38 @@ inline PolygonMesh cube_quads() {
   return m;
 }
 
+// Open n x n quad grid over [0,1]^2 with non-planar heights.
+inline PolygonMesh open_quad_grid(int n) {
+  PolygonMesh m;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = double(j) / n, y = double(i) / n;
+      m.positions.insert(m.positions.end(), {x, y, 0.3 * std::sin(3 * x) * std::cos(2 * y) + 0.1 * x * y});
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const auto id = [n](int a, int b) { return static_cast<std::uint32_t>(a * (n + 1) + b); };
+      m.face_indices.insert(m.face_indices.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
+      m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
+    }
+  return m;
+}
+
+// Closed pentagonal pyramid: apex of valence 5, five triangles and one pentagon.
+inline PolygonMesh pentagonal_pyramid() {
+  PolygonMesh m;
+  m.positions = {0.1, -0.05, 1.2};
+  for (int i = 0; i < 5; ++i) {
+    const double a = 2 * M_PI * i / 5;
+    m.positions.insert(m.positions.end(), {std::cos(a), 0.9 * std::sin(a), 0.1 * std::cos(2 * a)});
+  }
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    m.face_indices.insert(m.face_indices.end(), {0, 1 + i, 1 + (i + 1) % 5});
+    m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
+  }
+  m.face_indices.insert(m.face_indices.end(), {5, 4, 3, 2, 1});
+  m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
+  return m;
+}
+
 }  // namespace meshlift::test

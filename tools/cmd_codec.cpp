@@ -10,7 +10,6 @@
 #include "files.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
-#include "meshlift/mesh_io.h"
 #include "meshlift/validate.h"
 
 namespace meshlift::cli {
@@ -26,13 +25,9 @@ struct EncodeArgs {
 
 int run_encode(const EncodeArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
-  PolygonMesh input;
-  try {
-    input = read_mesh(a.input);
-  } catch (const MeshIOError& e) {
-    std::cerr << "meshlift: " << e.what() << "\n";
-    return kBadInput;
-  }
+  const std::optional<PolygonMesh> loaded = load_mesh(a.input);
+  if (!loaded) return kBadInput;
+  const PolygonMesh& input = *loaded;
   const std::string problem = first_problem_for_triangle_codec(validate_mesh(input));
   if (!problem.empty()) {
     std::cerr << "meshlift: " << a.input << ": " << problem << "\n";
@@ -116,12 +111,7 @@ int run_decode(const DecodeArgs& a) {
     print_failure(a.input, r);
     return kBadInput;
   }
-  try {
-    write_mesh(a.output, r.mesh, a.binary);
-  } catch (const MeshIOError& e) {
-    std::cerr << "meshlift: " << e.what() << "\n";
-    return kOutputError;
-  }
+  if (!save_mesh(a.output, r.mesh, a.binary)) return kOutputError;
   if (a.stats)
     std::fprintf(stderr,
                  "%s: %zu of %zu bytes, level %d of %d, bit plane %d%s: %zu vertices, %zu faces; decode %.3f ms "
@@ -181,12 +171,9 @@ int run_stream(const StreamArgs& a) {
   }
   std::vector<double> reference;
   if (!a.reference.empty()) {
-    try {
-      reference = read_mesh(a.reference).positions;
-    } catch (const MeshIOError& e) {
-      std::cerr << "meshlift: " << e.what() << "\n";
-      return kBadInput;
-    }
+    const std::optional<PolygonMesh> loaded = load_mesh(a.reference);
+    if (!loaded) return kBadInput;
+    reference = loaded->positions;
   }
   std::FILE* csv = nullptr;
   if (!a.csv.empty()) {
@@ -215,12 +202,7 @@ int run_stream(const StreamArgs& a) {
     char name[64];
     std::snprintf(name, sizeof name, "prefix_%09zu.ply", at);
     const std::string path = (std::filesystem::path(a.directory) / name).string();
-    try {
-      write_mesh(path, r.mesh, true);
-    } catch (const MeshIOError& e) {
-      std::cerr << "meshlift: " << e.what() << "\n";
-      return kOutputError;
-    }
+    if (!save_mesh(path, r.mesh, true)) return kOutputError;
     ++written;
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
     const double psnr = reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)

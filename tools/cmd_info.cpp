@@ -10,7 +10,6 @@
 #include "commands.h"
 #include "files.h"
 #include "meshlift/codec.h"
-#include "meshlift/mesh_io.h"
 #include "meshlift/validate.h"
 
 namespace meshlift::cli {
@@ -80,14 +79,9 @@ int run_info(const InfoOptions& options) {
     }
     return run_stream_info(options, head);
   }
-  MeshReport report;
-  try {
-    report = validate_mesh(read_mesh(options.file));
-  } catch (const MeshIOError& e) {
-    // MeshIOError messages already start with the file name.
-    std::cerr << "meshlift: " << e.what() << "\n";
-    return kBadInput;
-  }
+  const std::optional<PolygonMesh> mesh = load_mesh(options.file);
+  if (!mesh) return kBadInput;
+  const MeshReport report = validate_mesh(*mesh);
   std::cout << (options.json ? to_json(report) : to_text(report));
   return kOk;
 }

@@ -5,7 +5,7 @@
 
 #include "commands.h"
 #include "meshlift/limit.h"
-#include "meshlift/mesh_io.h"
+#include "files.h"
 
 namespace meshlift::cli {
 namespace {
@@ -19,13 +19,9 @@ struct LimitOptions {
 
 int run_limit(const LimitOptions& options) {
   if (!check_distinct_output(options.input, options.output)) return kOutputError;
-  PolygonMesh mesh;
-  try {
-    mesh = read_mesh(options.input);
-  } catch (const MeshIOError& e) {
-    std::cerr << "meshlift: " << e.what() << "\n";  // names the file already
-    return kBadInput;
-  }
+  const std::optional<PolygonMesh> loaded = load_mesh(options.input);
+  if (!loaded) return kBadInput;
+  const PolygonMesh& mesh = *loaded;
 
   PolygonMesh result;
   try {
@@ -49,13 +45,7 @@ int run_limit(const LimitOptions& options) {
     return kBadInput;
   }
 
-  try {
-    write_mesh(options.output, result, options.binary);
-  } catch (const MeshIOError& e) {
-    std::cerr << "meshlift: " << e.what() << "\n";
-    return kOutputError;
-  }
-  return kOk;
+  return save_mesh(options.output, result, options.binary) ? kOk : kOutputError;
 }
 
 }  // namespace

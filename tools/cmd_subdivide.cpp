@@ -6,7 +6,7 @@
 
 #include "commands.h"
 #include "meshlift/lifting.h"
-#include "meshlift/mesh_io.h"
+#include "files.h"
 #include "meshlift/polygon_subdivision.h"
 #include "meshlift/validate.h"
 
@@ -21,13 +21,9 @@ struct SubdivideArgs {
 
 int run_subdivide(const SubdivideArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
-  PolygonMesh input;
-  try {
-    input = read_mesh(a.input);
-  } catch (const MeshIOError& e) {
-    std::cerr << "meshlift: " << e.what() << "\n";
-    return kBadInput;
-  }
+  const std::optional<PolygonMesh> loaded = load_mesh(a.input);
+  if (!loaded) return kBadInput;
+  const PolygonMesh& input = *loaded;
   // Refuse before allocating: every scheme multiplies the face count by about 4 per level.
   constexpr double kMaxOutputFaces = 1 << 28;
   if (static_cast<double>(input.face_count()) * std::pow(4.0, a.levels) > kMaxOutputFaces) {
@@ -61,12 +57,7 @@ int run_subdivide(const SubdivideArgs& a) {
     std::cerr << "meshlift: " << e.what() << "\n";
     return kUsage;
   }
-  try {
-    write_mesh(a.output, result, a.binary);
-  } catch (const MeshIOError& e) {
-    std::cerr << "meshlift: " << e.what() << "\n";
-    return kOutputError;
-  }
+  if (!save_mesh(a.output, result, a.binary)) return kOutputError;
   std::cerr << a.input << ": " << input.vertex_count() << " vertices, " << input.face_count() << " faces -> "
             << a.output << ": " << result.vertex_count() << " vertices, " << result.face_count() << " faces ("
             << a.scheme << ", " << a.levels << " levels)\n";

@@ -3,7 +3,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <random>
+
+#include "meshlift/mesh_io.h"
 
 namespace meshlift::cli {
 
@@ -43,5 +46,30 @@ bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
   }
   return true;
 }
+
+std::optional<PolygonMesh> load_mesh(const std::string& path) {
+  try {
+    return read_mesh(path);
+  } catch (const MeshIOError& e) {
+    std::cerr << "meshlift: " << e.what() << "\n";  // what() starts with the path
+    return std::nullopt;
+  }
+}
+
+namespace {
+template <class Mesh>
+bool save(const std::string& path, const Mesh& mesh, bool binary) {
+  try {
+    write_mesh(path, mesh, binary);
+    return true;
+  } catch (const MeshIOError& e) {
+    std::cerr << "meshlift: " << e.what() << "\n";
+    return false;
+  }
+}
+}  // namespace
+
+bool save_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) { return save(path, mesh, binary); }
+bool save_mesh(const std::string& path, const TriangleMesh& mesh, bool binary) { return save(path, mesh, binary); }
 
 }  // namespace meshlift::cli

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "meshlift/mesh.h"
 
 namespace meshlift::cli {
 
@@ -12,5 +15,11 @@ namespace meshlift::cli {
 bool read_bytes(const std::string& path, std::vector<std::uint8_t>& bytes, std::string& error);
 /// Writes atomically (temporary file + rename); returns false and sets `error` on failure.
 bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes, std::string& error);
+
+/// Reads an input mesh; on failure prints `meshlift: PATH: problem` and returns nullopt.
+std::optional<PolygonMesh> load_mesh(const std::string& path);
+/// Writes an output mesh; on failure prints the one-line error and returns false.
+bool save_mesh(const std::string& path, const PolygonMesh& mesh, bool binary);
+bool save_mesh(const std::string& path, const TriangleMesh& mesh, bool binary);
 
 }  // namespace meshlift::cli

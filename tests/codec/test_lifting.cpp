@@ -8,16 +8,13 @@
 
 #include "meshlift/lifting.h"
 #include "test_meshes.h"
+#include "test_openmesh.h"
 
 using namespace meshlift;
 
 namespace {
 
-struct DoubleTraits : OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;
-  using Normal = OpenMesh::Vec3d;
-};
-using OMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
+using OMesh = test::OpenMeshTri;
 
 const std::vector<WaveletOptions> kAllSchemes = {
     {Scheme::linear, false}, {Scheme::linear, true}, {Scheme::butterfly, false}, {Scheme::butterfly, true}, {Scheme::loop, false}};
@@ -36,15 +33,6 @@ double max_abs(const std::vector<double>& v) {
   return m;
 }
 
-OMesh to_openmesh(const TriangleMesh& m) {
-  OMesh om;
-  std::vector<OMesh::VertexHandle> vh;
-  for (std::size_t v = 0; v < m.vertex_count(); ++v)
-    vh.push_back(om.add_vertex({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}));
-  for (std::size_t f = 0; f < m.face_count(); ++f)
-    om.add_face(vh[m.triangles[3 * f]], vh[m.triangles[3 * f + 1]], vh[m.triangles[3 * f + 2]]);
-  return om;
-}
 
 // Largest distance from a vertex of `ours` to the nearest vertex of the OpenMesh result, and the
 // converse; requires equal vertex counts. Brute force: the meshes here have a few thousand vertices.
@@ -109,42 +97,34 @@ TEST_CASE("synthesize(analyze(x)) == x for every scheme - random fine positions"
   }
 }
 
-TEST_CASE("loop synthesis with zero details is OpenMesh's LoopT subdivision", "[lifting][oracle]") {
+// Synthesis with zero details of `scheme` against OpenMesh's subdivider `Subdivider` on the same
+// base mesh, levels 1..3, every oracle mesh.
+template <class Subdivider>
+void check_against_openmesh(Scheme scheme) {
   for (const auto& [name, mesh] : oracle_meshes()) {
     for (int levels = 1; levels <= 3; ++levels) {
       INFO(name << " levels " << levels);
       const auto h = hierarchy_of(mesh, levels);
       std::vector<double> values(3 * std::size_t{h.vertex_count(levels)}, 0.0);
       std::copy(mesh.positions.begin(), mesh.positions.end(), values.begin());
-      WaveletTransform(h, {Scheme::loop, false}).synthesize(values);
+      WaveletTransform(h, {scheme, false}).synthesize(values);
 
-      OMesh om = to_openmesh(mesh);
-      OpenMesh::Subdivider::Uniform::LoopT<OMesh, double> loop;
-      loop.attach(om);
-      loop(levels);
-      loop.detach();
+      OMesh om = test::to_openmesh<OMesh>(mesh);
+      Subdivider subdivider;
+      subdivider.attach(om);
+      subdivider(levels);
+      subdivider.detach();
       CHECK(set_distance(values, om) <= 1e-12 * bounding_box_diagonal(mesh.positions));
     }
   }
 }
 
-TEST_CASE("butterfly synthesis with zero details is OpenMesh's ModifiedButterFlyT", "[lifting][oracle]") {
-  for (const auto& [name, mesh] : oracle_meshes()) {
-    for (int levels = 1; levels <= 3; ++levels) {
-      INFO(name << " levels " << levels);
-      const auto h = hierarchy_of(mesh, levels);
-      std::vector<double> values(3 * std::size_t{h.vertex_count(levels)}, 0.0);
-      std::copy(mesh.positions.begin(), mesh.positions.end(), values.begin());
-      WaveletTransform(h, {Scheme::butterfly, false}).synthesize(values);
+TEST_CASE("loop synthesis with zero details is OpenMesh's LoopT subdivision", "[lifting][oracle]") {
+  check_against_openmesh<OpenMesh::Subdivider::Uniform::LoopT<OMesh, double>>(Scheme::loop);
+}
 
-      OMesh om = to_openmesh(mesh);
-      OpenMesh::Subdivider::Uniform::ModifiedButterflyT<OMesh, double> butterfly;
-      butterfly.attach(om);
-      butterfly(levels);
-      butterfly.detach();
-      CHECK(set_distance(values, om) <= 1e-12 * bounding_box_diagonal(mesh.positions));
-    }
-  }
+TEST_CASE("butterfly synthesis with zero details is OpenMesh's ModifiedButterFlyT", "[lifting][oracle]") {
+  check_against_openmesh<OpenMesh::Subdivider::Uniform::ModifiedButterflyT<OMesh, double>>(Scheme::butterfly);
 }
 
 TEST_CASE("butterfly stencils match hand-computed values", "[lifting]") {

@@ -34,45 +34,17 @@
 #include "meshlift/limit.h"
 #include "meshlift/polygon_subdivision.h"
 #include "test_meshes.h"
+#include "test_openmesh.h"
 
 namespace {
 
 using namespace meshlift;
 
-struct DoubleTraits : OpenMesh::DefaultTraits {
-  typedef OpenMesh::Vec3d Point;
-  typedef OpenMesh::Vec3d Normal;
-};
-using OpenMeshTri = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
-using OpenMeshPoly = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+using test::OpenMeshPoly;
+using test::OpenMeshTri;
+using test::to_openmesh;
 
-template <typename OM>
-OM to_openmesh(const PolygonMesh& mesh) {
-  OM om;
-  std::vector<typename OM::VertexHandle> vertices;
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-    vertices.push_back(om.add_vertex({mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]}));
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    std::vector<typename OM::VertexHandle> corners;
-    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
-      corners.push_back(vertices[mesh.face_indices[c]]);
-    REQUIRE(om.add_face(corners).is_valid());
-  }
-  return om;
-}
-
-PolygonMesh from_openmesh(const OpenMeshPoly& om) {
-  PolygonMesh mesh;
-  for (auto v : om.vertices()) {
-    const auto& p = om.point(v);
-    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
-  }
-  for (auto f : om.faces()) {
-    for (auto v : om.fv_range(f)) mesh.face_indices.push_back(static_cast<std::uint32_t>(v.idx()));
-    mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
-  }
-  return mesh;
-}
+using test::from_openmesh;
 
 // history[k] = positions of the original vertices after k levels. OpenMesh's uniform subdividers
 // append new vertices and keep old indices; the identities checked at k = 1 would fail otherwise.
@@ -189,38 +161,7 @@ std::pair<double, double> catmull_clark_rates(const VertexClass& c) {
   return {(s + root) / 2, (s - root) / 2};
 }
 
-// Open n x n quad grid with non-planar heights.
-PolygonMesh open_quad_grid(int n) {
-  PolygonMesh m;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) {
-      const double x = double(j) / n, y = double(i) / n;
-      m.positions.insert(m.positions.end(), {x, y, 0.3 * std::sin(3 * x) * std::cos(2 * y) + 0.1 * x * y});
-    }
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const auto id = [n](int a, int b) { return static_cast<std::uint32_t>(a * (n + 1) + b); };
-      m.face_indices.insert(m.face_indices.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
-      m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
-    }
-  return m;
-}
 
-PolygonMesh pentagonal_pyramid() {
-  PolygonMesh m;
-  m.positions = {0.1, -0.05, 1.2};
-  for (int i = 0; i < 5; ++i) {
-    const double a = 2 * M_PI * i / 5;
-    m.positions.insert(m.positions.end(), {std::cos(a), 0.9 * std::sin(a), 0.1 * std::cos(2 * a)});
-  }
-  for (std::uint32_t i = 0; i < 5; ++i) {
-    m.face_indices.insert(m.face_indices.end(), {0, 1 + i, 1 + (i + 1) % 5});
-    m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
-  }
-  m.face_indices.insert(m.face_indices.end(), {5, 4, 3, 2, 1});
-  m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
-  return m;
-}
 
 TriangleMesh perturbed(TriangleMesh mesh, unsigned seed) {
   const auto noise = test::random_values(mesh.positions.size(), seed);
@@ -280,7 +221,7 @@ TEST_CASE("Catmull-Clark limit points are where subdivision converges", "[remesh
     }
   }
   SECTION("open quad grid, our catmull_clark (cubic B-spline boundary), 8 levels") {
-    const PolygonMesh grid = open_quad_grid(3);
+    const PolygonMesh grid = test::open_quad_grid(3);
     const auto history = our_catmull_clark_history(grid, 8);
     const PolygonMesh limit = catmull_clark_limit(grid);
     const auto classes = classify(grid);
@@ -288,7 +229,7 @@ TEST_CASE("Catmull-Clark limit points are where subdivision converges", "[remesh
                             [&](std::size_t v) { return catmull_clark_rates(classes[v]); }) < 1e-4);
   }
   SECTION("pentagonal pyramid: the limit of the once-subdivided mesh (valence 5 and 3)") {
-    const PolygonMesh pyramid = pentagonal_pyramid();
+    const PolygonMesh pyramid = test::pentagonal_pyramid();
     OpenMeshPoly om = to_openmesh<OpenMeshPoly>(pyramid);
     CatmullClark subdivider;
     REQUIRE(subdivider(om, 1));
@@ -353,7 +294,7 @@ TEST_CASE("LimitStencil rows - apply and errors", "[remesh][limit]") {
   CHECK_THROWS_AS(stencil.apply(disk.positions, short_out), std::invalid_argument);
 
   // Regular quad vertex: 16/36 itself, 4/36 edge neighbours, 1/36 diagonals.
-  const PolygonMesh grid = open_quad_grid(2);
+  const PolygonMesh grid = test::open_quad_grid(2);
   const LimitStencil quads = catmull_clark_limit_stencil(grid);
   const std::uint32_t centre = 4;
   REQUIRE(quads.row_offsets[centre + 1] - quads.row_offsets[centre] == 9);
@@ -362,7 +303,7 @@ TEST_CASE("LimitStencil rows - apply and errors", "[remesh][limit]") {
   apply_catmull_clark_limit(grid, grid.positions, quad_out);
   CHECK(quad_out == catmull_clark_limit(grid).positions);
 
-  CHECK_THROWS_AS(catmull_clark_limit_stencil(pentagonal_pyramid()), MeshError);
+  CHECK_THROWS_AS(catmull_clark_limit_stencil(test::pentagonal_pyramid()), MeshError);
   TriangleMesh broken = test::icosahedron();
   broken.triangles.push_back(0);
   CHECK_THROWS_AS(loop_limit(broken), MeshError);
@@ -371,7 +312,7 @@ TEST_CASE("LimitStencil rows - apply and errors", "[remesh][limit]") {
 TEST_CASE("Interpolation by iterated limit differences converges", "[remesh][limit]") {
   // Seed 000 eq. 1-3: C_{k+1} = C_k + (P - A C_k) with A the Catmull-Clark limit operator of a
   // mesh with a vertex of valence > 3; the limit points of C then interpolate P.
-  const PolygonMesh mesh = catmull_clark(pentagonal_pyramid(), 1);
+  const PolygonMesh mesh = catmull_clark(test::pentagonal_pyramid(), 1);
   const LimitStencil a = catmull_clark_limit_stencil(mesh);
   const std::vector<double>& target = mesh.positions;
   std::vector<double> control = target, limit(target.size());

@@ -10,49 +10,21 @@
 
 #include "meshlift/polygon_subdivision.h"
 #include "test_meshes.h"
+#include "test_openmesh.h"
 
 namespace {
 
 using namespace meshlift;
 
-struct DoubleTraits : OpenMesh::DefaultTraits {
-  typedef OpenMesh::Vec3d Point;
-  typedef OpenMesh::Vec3d Normal;
-};
-using OpenMeshPoly = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+using test::OpenMeshPoly;
 
-OpenMeshPoly to_openmesh(const PolygonMesh& mesh) {
-  OpenMeshPoly om;
-  std::vector<OpenMeshPoly::VertexHandle> vertices;
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-    vertices.push_back(om.add_vertex({mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]}));
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    std::vector<OpenMeshPoly::VertexHandle> corners;
-    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
-      corners.push_back(vertices[mesh.face_indices[c]]);
-    REQUIRE(om.add_face(corners).is_valid());
-  }
-  return om;
-}
 
-PolygonMesh from_openmesh(const OpenMeshPoly& om) {
-  PolygonMesh mesh;
-  for (auto v : om.vertices()) {
-    const auto& p = om.point(v);
-    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
-  }
-  for (auto f : om.faces()) {
-    for (auto v : om.fv_range(f)) mesh.face_indices.push_back(static_cast<std::uint32_t>(v.idx()));
-    mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
-  }
-  return mesh;
-}
 
 PolygonMesh openmesh_catmull_clark(const PolygonMesh& mesh, int levels) {
-  OpenMeshPoly om = to_openmesh(mesh);
+  OpenMeshPoly om = test::to_openmesh<OpenMeshPoly>(mesh);
   OpenMesh::Subdivider::Uniform::CatmullClarkT<OpenMeshPoly, double> subdivider;
   REQUIRE(subdivider(om, static_cast<std::size_t>(levels)));
-  return from_openmesh(om);
+  return test::from_openmesh(om);
 }
 
 double distance(const double* a, const double* b) {
@@ -102,39 +74,7 @@ void require_same_mesh(const PolygonMesh& ours, const PolygonMesh& theirs, doubl
   CHECK(our_faces == their_faces);
 }
 
-// Open n x n quad grid over [0,1]^2 with non-planar heights.
-PolygonMesh open_quad_grid(int n) {
-  PolygonMesh m;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) {
-      const double x = double(j) / n, y = double(i) / n;
-      m.positions.insert(m.positions.end(), {x, y, 0.3 * std::sin(3 * x) * std::cos(2 * y) + 0.1 * x * y});
-    }
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const auto id = [n](int a, int b) { return static_cast<std::uint32_t>(a * (n + 1) + b); };
-      m.face_indices.insert(m.face_indices.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
-      m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
-    }
-  return m;
-}
 
-// Closed pentagonal pyramid: apex of valence 5, five triangles and one pentagon.
-PolygonMesh pentagonal_pyramid() {
-  PolygonMesh m;
-  m.positions = {0.1, -0.05, 1.2};
-  for (int i = 0; i < 5; ++i) {
-    const double a = 2 * M_PI * i / 5;
-    m.positions.insert(m.positions.end(), {std::cos(a), 0.9 * std::sin(a), 0.1 * std::cos(2 * a)});
-  }
-  for (std::uint32_t i = 0; i < 5; ++i) {
-    m.face_indices.insert(m.face_indices.end(), {0, 1 + i, 1 + (i + 1) % 5});
-    m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
-  }
-  m.face_indices.insert(m.face_indices.end(), {5, 4, 3, 2, 1});
-  m.face_offsets.push_back(static_cast<std::uint32_t>(m.face_indices.size()));
-  return m;
-}
 
 // Open fan of four quads and one triangle around a centre of valence 5 (boundary, mixed faces).
 PolygonMesh open_mixed_fan() {
@@ -168,8 +108,8 @@ bool has_boundary(const PolygonMesh& mesh) {
 TEST_CASE("catmull_clark equals OpenMesh CatmullClarkT", "[remesh][catmull_clark]") {
   const std::vector<std::pair<const char*, PolygonMesh>> meshes = {
       {"cube", test::cube_quads()},
-      {"open 4x4 quad grid", open_quad_grid(4)},
-      {"pentagonal pyramid (valence 5, triangles + pentagon)", pentagonal_pyramid()},
+      {"open 4x4 quad grid", test::open_quad_grid(4)},
+      {"pentagonal pyramid (valence 5, triangles + pentagon)", test::pentagonal_pyramid()},
       {"open mixed fan (valence 5, quads + triangle, boundary)", open_mixed_fan()},
   };
   for (const auto& [name, mesh] : meshes) {
@@ -189,7 +129,7 @@ TEST_CASE("catmull_clark equals OpenMesh CatmullClarkT", "[remesh][catmull_clark
 TEST_CASE("catmull_clark cubic B-spline boundary rule", "[remesh][catmull_clark]") {
   // On an open grid the two boundary rules agree everywhere except at old boundary vertices,
   // which the default rule moves to (b1 + 6v + b2)/8 (seed 004); boundary edge points are midpoints.
-  const PolygonMesh grid = open_quad_grid(3);
+  const PolygonMesh grid = test::open_quad_grid(3);
   const PolygonMesh bspline = catmull_clark(grid, 1);
   const PolygonMesh openmesh = catmull_clark(grid, 1, BoundaryVertexRule::openmesh);
   REQUIRE(bspline.vertex_count() == openmesh.vertex_count());

@@ -21,6 +21,9 @@ enum class Scheme : std::uint8_t {
 };
 
 const char* to_string(Scheme scheme);
+
+/// Loop's beta_n = (1/n) (5/8 - (3/8 + cos(2 pi / n) / 4)^2) (Loop 1987; CODEC-NOTES §2), n >= 1.
+double loop_beta(unsigned valence);
 /// Parses "linear", "butterfly", "loop"; throws std::invalid_argument otherwise.
 Scheme parse_scheme(const std::string& name);
 
