@@ -1,12 +1,14 @@
 #include "base_mesh_coder.h"
 
+#include <algorithm>
+#include <deque>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "meshlift/mesh.h"
+
 namespace meshlift::base_mesh {
-namespace {
-
-std::uint32_t zigzag(std::int64_t v) { return static_cast<std::uint32_t>(v >= 0 ? 2 * v : -2 * v - 1); }
-std::int64_t unzigzag(std::uint32_t u) { return (u & 1) ? -static_cast<std::int64_t>(u >> 1) - 1 : u >> 1; }
-
-}  // namespace
 
 // value + 1 = 1 b_{n-1} ... b_0: n zeros-then-one in unary (models by position), then n bits.
 void UintCoder::encode(RangeEncoder& encoder, std::uint32_t value) {
@@ -46,41 +48,220 @@ bool UintCoder::decode(RangeDecoder& decoder, std::uint32_t& value) {
   return true;
 }
 
-std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles) {
-  RangeEncoder encoder;
-  UintCoder first, others;
-  std::int64_t previous = 0;
-  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
-    const std::int64_t a = triangles[f];
-    first.encode(encoder, zigzag(a - previous));
-    others.encode(encoder, zigzag(static_cast<std::int64_t>(triangles[f + 1]) - a));
-    others.encode(encoder, zigzag(static_cast<std::int64_t>(triangles[f + 2]) - a));
-    previous = a;
+namespace {
+
+std::uint64_t key(std::uint32_t u, std::uint32_t w) { return (std::uint64_t{u} << 32) | w; }
+
+/// What the previous gate turned out to be: the context of the next gate's symbols.
+enum Previous : int { kWasNew = 0, kWasRight = 1, kWasLeft = 2, kWasOther = 3 };
+
+/// The models of the traversal symbols (FORMAT.md §4), the gate symbols per previous symbol.
+struct Models {
+  BitModel boundary[4], right[4], left[4], new_vertex[4], start_new;
+  UintCoder index, vertex;
+};
+
+/// What encoder and decoder both know, in the new labels: the faces coded so far, their directed
+/// edges, the open edges (coded, twin not coded) at each vertex, and the queue of gates.
+class Front {
+ public:
+  explicit Front(std::uint32_t vertex_count) : out_open_(vertex_count), in_open_(vertex_count) {}
+
+  /// Adds face (a, b, c); false if it repeats a coded directed edge (not a manifold mesh).
+  bool add_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const std::uint32_t corners[3] = {a, b, c};
+    for (int i = 0; i < 3; ++i)
+      if (coded_.count(key(corners[i], corners[(i + 1) % 3]))) return false;
+    faces.insert(faces.end(), {a, b, c});
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t u = corners[i], w = corners[(i + 1) % 3];
+      coded_.insert(key(u, w));
+      if (coded_.count(key(w, u))) {
+        erase(out_open_[w], u);
+        erase(in_open_[u], w);
+      } else {
+        out_open_[u].push_back(w);
+        in_open_[w].push_back(u);
+        gates_.push_back({u, w});
+      }
+    }
+    return true;
   }
+  /// The next gate a -> b whose far side is not coded yet; false when there is none.
+  bool next_gate(std::uint32_t& a, std::uint32_t& b) {
+    while (!gates_.empty()) {
+      const auto [u, w] = gates_.front();
+      gates_.pop_front();
+      if (!coded_.count(key(w, u))) {
+        a = u;
+        b = w;
+        return true;
+      }
+    }
+    return false;
+  }
+  /// Vertices x with an open edge x -> a (a face (b, a, x) closes against it: "right").
+  const std::vector<std::uint32_t>& right(std::uint32_t a) const { return in_open_[a]; }
+  /// Vertices x with an open edge b -> x (a face (b, a, x) closes against it: "left").
+  const std::vector<std::uint32_t>& left(std::uint32_t b) const { return out_open_[b]; }
+
+  std::vector<std::uint32_t> faces;
+  std::uint32_t seen = 0;  ///< vertices labelled so far; the next new vertex gets this label
+
+ private:
+  static void erase(std::vector<std::uint32_t>& v, std::uint32_t x) { v.erase(std::find(v.begin(), v.end(), x)); }
+  std::vector<std::vector<std::uint32_t>> out_open_, in_open_;
+  std::unordered_set<std::uint64_t> coded_;
+  std::deque<std::pair<std::uint32_t, std::uint32_t>> gates_;
+};
+
+std::uint32_t position_in(const std::vector<std::uint32_t>& list, std::uint32_t x) {
+  return static_cast<std::uint32_t>(std::find(list.begin(), list.end(), x) - list.begin());
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles, std::uint32_t vertex_count,
+                                       CodingOrder* order) {
+  const auto F = static_cast<std::uint32_t>(triangles.size() / 3);
+  // Old directed edge (u, w) -> 3 * face + corner of u.
+  std::unordered_map<std::uint64_t, std::uint32_t> corner_of_edge;
+  corner_of_edge.reserve(triangles.size());
+  for (std::uint32_t f = 0; f < F; ++f)
+    for (std::uint32_t i = 0; i < 3; ++i)
+      corner_of_edge[key(triangles[3 * f + i], triangles[3 * f + (i + 1) % 3])] = 3 * f + i;
+
+  RangeEncoder encoder;
+  Models m;
+  Front front(vertex_count);
+  std::vector<std::uint32_t> label(vertex_count, kNone), old_of(vertex_count, kNone);
+  std::vector<char> coded(F, 0);
+  CodingOrder local;
+  CodingOrder& out = order ? *order : local;
+  out.face.clear();
+  out.rotation.clear();
+  auto take_face = [&](std::uint32_t f, std::uint32_t rotation, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    front.add_face(a, b, c);
+    out.face.push_back(f);
+    out.rotation.push_back(rotation);
+    coded[f] = 1;
+  };
+  auto new_label = [&](std::uint32_t v) {
+    label[v] = front.seen++;
+    old_of[label[v]] = v;
+    return label[v];
+  };
+
+  std::uint32_t next_start = 0;
+  int previous = kWasOther;
+  while (out.face.size() < F) {
+    std::uint32_t a, b;
+    if (!front.next_gate(a, b)) {
+      // A new component starts at the lowest uncoded face: its three corners, each new or named.
+      while (coded[next_start]) ++next_start;
+      std::uint32_t corners[3];
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t v = triangles[3 * next_start + i];
+        encoder.encode(m.start_new, label[v] == kNone);
+        if (label[v] == kNone)
+          corners[i] = new_label(v);
+        else
+          m.vertex.encode(encoder, corners[i] = label[v]);
+      }
+      take_face(next_start, 0, corners[0], corners[1], corners[2]);
+      continue;
+    }
+    const auto across = corner_of_edge.find(key(old_of[b], old_of[a]));
+    encoder.encode(m.boundary[previous], across == corner_of_edge.end());
+    if (across == corner_of_edge.end()) {
+      previous = kWasOther;
+      continue;
+    }
+    const std::uint32_t f = across->second / 3, r = across->second % 3;
+    const std::uint32_t c_old = triangles[3 * f + (r + 2) % 3];
+    std::uint32_t c = label[c_old];
+    bool named = false;
+    const int context = previous;
+    for (const auto& [list, model, kind] : {std::tuple{&front.right(a), &m.right[context], kWasRight},
+                                            std::tuple{&front.left(b), &m.left[context], kWasLeft}}) {
+      if (named || list->empty()) continue;
+      const bool here = c != kNone && std::find(list->begin(), list->end(), c) != list->end();
+      encoder.encode(*model, here);
+      if (here && list->size() > 1) m.index.encode(encoder, position_in(*list, c));
+      named = here;
+      if (here) previous = kind;
+    }
+    if (!named) {
+      encoder.encode(m.new_vertex[context], c == kNone);
+      previous = c == kNone ? kWasNew : kWasOther;
+      if (c == kNone)
+        c = new_label(c_old);
+      else
+        m.vertex.encode(encoder, c);
+    }
+    take_face(f, r, b, a, c);
+  }
+  out.label = label;
+  for (std::uint32_t v = 0; v < vertex_count; ++v)
+    if (out.label[v] == kNone) out.label[v] = front.seen++;
   return encoder.finish();
 }
 
 bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_count, std::uint32_t face_count,
                   std::vector<std::uint32_t>& triangles) {
   RangeDecoder decoder(bytes);
-  UintCoder first, others;
-  triangles.clear();
-  triangles.reserve(std::size_t{face_count} * 3);
-  std::int64_t previous = 0;
-  for (std::uint32_t f = 0; f < face_count; ++f) {
-    std::uint32_t u = 0;
-    if (!first.decode(decoder, u)) return false;
-    const std::int64_t a = previous + unzigzag(u);
-    if (a < 0 || a >= vertex_count) return false;
-    triangles.push_back(static_cast<std::uint32_t>(a));
-    for (int k = 0; k < 2; ++k) {
-      if (!others.decode(decoder, u)) return false;
-      const std::int64_t b = a + unzigzag(u);
-      if (b < 0 || b >= vertex_count) return false;
-      triangles.push_back(static_cast<std::uint32_t>(b));
+  Models m;
+  Front front(vertex_count);
+  auto bit = [&](BitModel& model, int& out) {
+    out = decoder.decode(model);
+    return !decoder.exhausted();
+  };
+  // A vertex named explicitly must already be labelled; a new one gets the next label.
+  auto named_vertex = [&](std::uint32_t& v) { return m.vertex.decode(decoder, v) && v < front.seen; };
+  auto fresh_vertex = [&](std::uint32_t& v) {
+    if (front.seen >= vertex_count) return false;
+    v = front.seen++;
+    return true;
+  };
+  int previous = kWasOther;
+  while (front.faces.size() < 3 * std::size_t{face_count}) {
+    std::uint32_t a, b;
+    int s = 0;
+    if (!front.next_gate(a, b)) {
+      std::uint32_t corners[3];
+      for (auto& corner : corners) {
+        if (!bit(m.start_new, s)) return false;
+        if (!(s ? fresh_vertex(corner) : named_vertex(corner))) return false;
+      }
+      if (corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2]) return false;
+      if (!front.add_face(corners[0], corners[1], corners[2])) return false;
+      continue;
     }
-    previous = a;
+    if (!bit(m.boundary[previous], s)) return false;
+    if (s) {
+      previous = kWasOther;
+      continue;
+    }
+    std::uint32_t c = kNone;
+    const int context = previous;
+    for (const auto& [list, model, kind] : {std::tuple{&front.right(a), &m.right[context], kWasRight},
+                                            std::tuple{&front.left(b), &m.left[context], kWasLeft}}) {
+      if (c != kNone || list->empty()) continue;
+      if (!bit(*model, s)) return false;
+      if (!s) continue;
+      std::uint32_t index = 0;
+      if (list->size() > 1 && (!m.index.decode(decoder, index) || index >= list->size())) return false;
+      c = (*list)[index];
+      previous = kind;
+    }
+    if (c == kNone) {
+      if (!bit(m.new_vertex[context], s)) return false;
+      previous = s ? kWasNew : kWasOther;
+      if (!(s ? fresh_vertex(c) : named_vertex(c))) return false;
+    }
+    if (c == a || c == b || !front.add_face(b, a, c)) return false;
   }
+  triangles = std::move(front.faces);
   return true;
 }
 

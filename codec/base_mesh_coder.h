@@ -1,7 +1,10 @@
-// Base mesh connectivity: lossless, through the adaptive range coder. Each face's corners are
-// coded as zigzag deltas (first corner from the previous face's first corner, the other two from
-// the first) with an adaptive Elias-gamma binarization. This is the simple floor; a valence
-// coder would do better on large base meshes.
+// Base mesh connectivity (FORMAT.md §4): a face-by-face traversal in the spirit of Edgebreaker
+// (Rossignac 1999). Faces are visited breadth first across "gates", the open edges of the region
+// coded so far; for each gate one symbol says what lies across it: the boundary, a face whose
+// third vertex closes the front on the right or on the left (an open edge at a gate vertex), a
+// face with a vertex never seen before, or (rarely) any other vertex, coded explicitly. Vertices
+// are numbered in the order the traversal first meets them and faces in the order it codes them,
+// so a new vertex costs only its symbol: `canonical_order` (codec.h) puts a mesh in that order.
 #pragma once
 
 #include <cstdint>
@@ -13,7 +16,7 @@
 namespace meshlift::base_mesh {
 
 /// Adaptive Elias-gamma code of an unsigned integer: the bit length in unary (one model per
-/// position), then the bits below the leading one (the top two modelled per length, the rest direct).
+/// position), then the bits below the leading one (the top three modelled per length, the rest direct).
 class UintCoder {
  public:
   void encode(RangeEncoder& encoder, std::uint32_t value);
@@ -25,10 +28,21 @@ class UintCoder {
   BitModel mantissa_[33][3];
 };
 
-std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles);
+/// The traversal order of a triangle list: face k of the coded order is old face `face[k]`
+/// rotated so that its corner 0 is old corner `rotation[k]`; old vertex v gets label `label[v]`
+/// (vertices no face uses get the last labels, in their old order).
+struct CodingOrder {
+  std::vector<std::uint32_t> face, rotation, label;
+};
+
+/// Codes the faces (which must form a manifold, consistently oriented mesh over `vertex_count`
+/// vertices) and returns the bytes; `order` receives the traversal order, which the decoder
+/// reproduces: decode_faces returns the faces relabelled and reordered by it.
+std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles, std::uint32_t vertex_count,
+                                       CodingOrder* order = nullptr);
 
 /// Decodes `face_count` faces over `vertex_count` vertices. Returns false on a truncated stream
-/// or an index out of range (the caller reports corrupt).
+/// or an impossible symbol (the caller reports corrupt).
 bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_count, std::uint32_t face_count,
                   std::vector<std::uint32_t>& triangles);
 

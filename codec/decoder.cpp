@@ -89,6 +89,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
   // Base mesh.
   if (header.base_faces > kMaxFacesPerBaseByte * stream.base->payload.size() + 1024)
     return failure(Status::corrupt, "the base chunk is too short for " + std::to_string(header.base_faces) + " faces");
+  if (header.base_vertices > 3 * std::uint64_t{header.base_faces})
+    return failure(Status::corrupt, std::to_string(header.base_vertices) + " base vertices cannot all lie on " +
+                                        std::to_string(header.base_faces) + " faces");
   std::vector<std::uint32_t> triangles;
   if (!base_mesh::decode_faces(stream.base->payload, header.base_vertices, header.base_faces, triangles))
     return failure(Status::corrupt, "the base mesh connectivity does not decode");

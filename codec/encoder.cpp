@@ -38,7 +38,15 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
 
 }  // namespace
 
-std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOptions& options) {
+std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptions& options) {
+  if (input.positions.size() != 3 * std::size_t{input.hierarchy.vertex_count(input.hierarchy.levels())})
+    throw MeshError("encode: positions do not match the hierarchy");
+  {
+    std::vector<char> used(input.hierarchy.vertex_count(0), 0);
+    for (std::uint32_t v : input.hierarchy.triangles(0)) used[v] = 1;
+    if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
+  }
+  const SemiRegularMesh mesh = canonical_order(input);
   const SemiRegularHierarchy& h = mesh.hierarchy;
   const int L = h.levels();
   const std::uint32_t V = h.vertex_count(L);
@@ -100,7 +108,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOption
 
   ContainerWriter writer;
   writer.add_chunk(kTagHeader, header.write());
-  writer.add_chunk(kTagBaseMesh, base_mesh::encode_faces(h.topology(0).triangles));
+  writer.add_chunk(kTagBaseMesh, base_mesh::encode_faces(h.triangles(0), h.vertex_count(0)));
   for (std::size_t offset = 0; offset < coefficients.size(); offset += kCoefficientChunkBytes)
     writer.add_chunk(kTagCoefficients,
                      std::span(coefficients).subspan(offset, std::min(kCoefficientChunkBytes, coefficients.size() - offset)));

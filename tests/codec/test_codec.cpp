@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <random>
+#include <set>
+#include <array>
 
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -16,6 +18,7 @@ namespace {
 
 // A semi-regular mesh with real detail at every level: the base refined by Loop, then every
 // vertex pushed radially by a smooth bumpy field (so the details are neither zero nor noise).
+// In canonical order, so that decoded vertices line up with it.
 SemiRegularMesh bumpy(const TriangleMesh& base, int levels, double amplitude = 0.05) {
   SemiRegularMesh m = refine_linear(base, levels);
   std::fill(m.positions.begin() + static_cast<std::ptrdiff_t>(base.positions.size()), m.positions.end(), 0.0);
@@ -25,7 +28,7 @@ SemiRegularMesh bumpy(const TriangleMesh& base, int levels, double amplitude = 0
     const double bump = 1 + amplitude * std::sin(7 * x + 1) * std::cos(5 * y) + 0.5 * amplitude * std::sin(11 * z);
     for (int k = 0; k < 3; ++k) m.positions[i + k] *= bump;
   }
-  return m;
+  return canonical_order(m);
 }
 
 double rms_error(const std::vector<double>& a, const std::vector<double>& b) {
@@ -193,6 +196,43 @@ TEST_CASE("hostile bytes: truncation at every byte and bit flips end in a mesh o
     if (r.status == Status::ok) CHECK(r.mesh.positions.size() % 3 == 0);
   }
   CHECK(checksum_errors > 500);  // most flips land inside a checksummed payload
+}
+
+TEST_CASE("canonical order: idempotent and the same mesh", "[codec]") {
+  SemiRegularMesh m = refine_linear(test::torus(5, 4), 2);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) m.positions[i] += 0.01 * std::sin(3.0 * i);
+  const SemiRegularMesh c = canonical_order(m), cc = canonical_order(c);
+  CHECK(cc.positions == c.positions);
+  CHECK(cc.hierarchy.triangles(2) == c.hierarchy.triangles(2));
+  // Same triangles as sets of positions: every canonical face is some original face.
+  std::set<std::array<double, 9>> original, canonical;
+  auto faces = [](const SemiRegularMesh& mesh, std::set<std::array<double, 9>>& out) {
+    const auto& t = mesh.hierarchy.triangles(2);
+    for (std::size_t f = 0; f < t.size(); f += 3) {
+      std::array<std::array<double, 3>, 3> corners;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) corners[i][k] = mesh.positions[3 * t[f + i] + k];
+      std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
+      std::array<double, 9> flat;
+      for (int i = 0; i < 9; ++i) flat[i] = corners[i / 3][i % 3];
+      out.insert(flat);
+    }
+  };
+  faces(m, original);
+  faces(c, canonical);
+  CHECK(original == canonical);
+}
+
+TEST_CASE("base connectivity costs a few bits per base vertex", "[codec]") {
+  for (const auto& [name, base] : {std::pair{"torus 24x16", test::torus(24, 16)}, std::pair{"grid 30x30", test::grid(30)},
+                                   std::pair{"icosahedron", test::icosahedron()}}) {
+    const SemiRegularMesh mesh = refine_linear(base, 1);
+    const StreamInfo info = inspect(encode(mesh, {}));
+    REQUIRE(info.status == Status::ok);
+    const double bits = 8.0 * static_cast<double>(info.chunks[1].size) / static_cast<double>(base.vertex_count());
+    std::printf("base connectivity, %s (%zu vertices): %.2f bits per vertex\n", name, base.vertex_count(), bits);
+    if (base.vertex_count() > 100) CHECK(bits < 3.2);  // the old face-list floor was about 38
+  }
 }
 
 TEST_CASE("a tiny file claiming huge counts is rejected before allocating", "[codec][robust]") {

@@ -24,8 +24,15 @@ struct EncodeOptions {
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
 };
 
-/// Encodes the positions of a semi-regular mesh. \throw MeshError if the mesh is unusable
-/// (positions of the wrong size, non-finite coordinates) or the precision cannot be met.
+/// The same mesh with its vertices and faces in the order a stream stores them: the base in the
+/// traversal order of the connectivity coder (FORMAT.md §4), which makes a new base vertex cost
+/// only its symbol, and every finer level renumbered to follow. Idempotent.
+SemiRegularMesh canonical_order(const SemiRegularMesh& mesh);
+
+/// Encodes the positions of a semi-regular mesh. decode() returns the vertices in
+/// canonical_order(mesh), which is `mesh`'s own order when it is already canonical.
+/// \throw MeshError if the mesh is unusable (positions of the wrong size, non-finite
+/// coordinates, base vertices no face uses) or the precision cannot be met.
 std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOptions& options);
 
 /// Caller-settable caps, checked against the header before anything is allocated.

@@ -1,0 +1,57 @@
+// Puts a semi-regular mesh in the order its stream decodes to (codec.h): base faces and vertices
+// in the traversal order of the base mesh coder (base_mesh_coder.h), the finer levels renumbered
+// to follow. Faces map to faces by the refinement rule, so no geometric search is needed.
+#include "base_mesh_coder.h"
+#include "meshlift/codec.h"
+
+namespace meshlift {
+
+SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
+  const SemiRegularHierarchy& old = mesh.hierarchy;
+  const int L = old.levels();
+  const std::vector<std::uint32_t>& old_base = old.triangles(0);
+  base_mesh::CodingOrder order;
+  base_mesh::encode_faces(old_base, old.vertex_count(0), &order);
+
+  // New base: face k is old face order.face[k] turned so that its corner 0 is old corner rotation[k].
+  const std::size_t F = order.face.size();
+  std::vector<std::uint32_t> base(3 * F);
+  for (std::size_t k = 0; k < F; ++k)
+    for (std::uint32_t i = 0; i < 3; ++i)
+      base[3 * k + i] = order.label[old_base[3 * order.face[k] + (i + order.rotation[k]) % 3]];
+  SemiRegularMesh out{SemiRegularHierarchy(TriangleTopology::build(old.vertex_count(0), base), L), {}};
+  const SemiRegularHierarchy& h = out.hierarchy;
+
+  // old_vertex[v]: the old index of new vertex v, level by level. Face k of level j is old face
+  // face_map[k] turned by turn[k]; its corner edge i is old corner edge (i + turn) % 3, so their
+  // odd vertices correspond. Refinement: new children 4k + i (i < 3) are old 4f + (i + t) % 3
+  // unturned, the centre 4k + 3 is old 4f + 3 turned by t.
+  std::vector<std::uint32_t> old_vertex(h.vertex_count(L));
+  for (std::uint32_t v = 0; v < old.vertex_count(0); ++v) old_vertex[order.label[v]] = v;
+  std::vector<std::uint32_t> face_map = order.face, turn = order.rotation;
+  for (int j = 0; j < L; ++j) {
+    const TriangleTopology &nt = h.topology(j), &ot = old.topology(j);
+    for (std::size_t k = 0; k < face_map.size(); ++k)
+      for (std::uint32_t i = 0; i < 3; ++i)
+        old_vertex[h.odd_vertex(j, nt.face_edges[3 * k + i])] =
+            old.odd_vertex(j, ot.face_edges[3 * face_map[k] + (i + turn[k]) % 3]);
+    if (j + 1 == L) break;
+    std::vector<std::uint32_t> next_map(4 * face_map.size()), next_turn(4 * face_map.size());
+    for (std::size_t k = 0; k < face_map.size(); ++k) {
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        next_map[4 * k + i] = 4 * face_map[k] + (i + turn[k]) % 3;
+        next_turn[4 * k + i] = 0;
+      }
+      next_map[4 * k + 3] = 4 * face_map[k] + 3;
+      next_turn[4 * k + 3] = turn[k];
+    }
+    face_map = std::move(next_map);
+    turn = std::move(next_turn);
+  }
+  out.positions.resize(mesh.positions.size());
+  for (std::size_t v = 0; v < old_vertex.size(); ++v)
+    for (int c = 0; c < 3; ++c) out.positions[3 * v + c] = mesh.positions[3 * std::size_t{old_vertex[v]} + c];
+  return out;
+}
+
+}  // namespace meshlift
