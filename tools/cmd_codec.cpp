@@ -173,7 +173,14 @@ int run_stream(const StreamArgs& a) {
   if (!a.reference.empty()) {
     const std::optional<PolygonMesh> loaded = load_mesh(a.reference);
     if (!loaded) return kBadInput;
-    reference = loaded->positions;
+    // The stream holds its vertices in canonical order: put the reference in that order too.
+    std::optional<SemiRegularMesh> recovered;
+    if (loaded->is_triangle_mesh()) recovered = recover_level_ordered(to_triangle_mesh(*loaded));
+    if (!recovered) {
+      std::cerr << "meshlift: " << a.reference << ": no subdivision connectivity in level order: not the encoded mesh\n";
+      return kBadInput;
+    }
+    reference = canonical_order(*recovered).positions;
   }
   std::FILE* csv = nullptr;
   if (!a.csv.empty()) {
@@ -268,7 +275,7 @@ void register_stream(CLI::App& app, int& exit_code) {
   cmd->add_option("--every", a->every, "bytes between snapshots")->required()->check(CLI::PositiveNumber);
   cmd->add_option("-o,--output", a->directory, "output directory")->required();
   cmd->add_option("--reference", a->reference,
-                  "mesh with the same vertices (the encoded semi-regular mesh): print the PSNR of each snapshot");
+                  "the encoded semi-regular mesh: print the PSNR of each snapshot against it");
   cmd->add_option("--csv", a->csv, "write bytes, bits per vertex, bit plane and PSNR per snapshot to this file");
   cmd->callback([a, &exit_code] { exit_code = run_stream(*a); });
 }
