@@ -39,23 +39,21 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
 }  // namespace
 
 std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptions& options) {
-  if (input.positions.size() != 3 * std::size_t{input.hierarchy.vertex_count(input.hierarchy.levels())})
-    throw MeshError("encode: positions do not match the hierarchy");
-  {
-    std::vector<char> used(input.hierarchy.vertex_count(0), 0);
-    for (std::uint32_t v : input.hierarchy.triangles(0)) used[v] = 1;
-    if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
-  }
-  const SemiRegularMesh mesh = canonical_order(input);
-  const SemiRegularHierarchy& h = mesh.hierarchy;
-  const int L = h.levels();
-  const std::uint32_t V = h.vertex_count(L);
-  if (mesh.positions.size() != std::size_t{V} * 3) throw MeshError("encode: positions do not match the hierarchy");
+  const SemiRegularHierarchy& given = input.hierarchy;
+  const std::uint32_t V = given.vertex_count(given.levels());
+  if (input.positions.size() != std::size_t{V} * 3) throw MeshError("encode: positions do not match the hierarchy");
   if (V >= (std::uint32_t{1} << 31)) throw MeshError("encode: too many vertices");
   if (options.precision_bits < 1 || options.precision_bits > 40)
     throw MeshError("encode: precision_bits must be between 1 and 40");
-  for (double x : mesh.positions)
+  for (double x : input.positions)
     if (!std::isfinite(x)) throw MeshError("encode: a vertex coordinate is NaN or infinite");
+  std::vector<char> used(given.vertex_count(0), 0);
+  for (std::uint32_t v : given.triangles(0)) used[v] = 1;
+  if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
+
+  const SemiRegularMesh mesh = canonical_order(input);
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  const int L = h.levels();
 
   StreamHeader header;
   header.scheme = options.scheme;
