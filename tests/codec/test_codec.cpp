@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 #include <array>
+#include <bit>
 
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -248,6 +249,29 @@ TEST_CASE("a tiny file claiming huge counts is rejected before allocating", "[co
   const DecodeResult r = decode(file);
   CHECK(r.status == Status::limit_exceeded);
   CHECK(r.mesh.positions.empty());
+}
+
+TEST_CASE("a small file whose header refines a real base past the vertex limit is rejected", "[codec][robust]") {
+  // A valid icosahedron stream's BASE chunk behind a hand-written HEAD claiming 12 levels:
+  // 20 * 4^12 faces, about 168 M vertices, above the default limit of 2^24.
+  const auto valid = encode(bumpy(test::icosahedron(), 1), {});
+  ContainerReader reader;
+  REQUIRE(reader.parse(valid) == Status::ok);
+  ByteWriter head;
+  for (std::uint8_t b : {2, 0, 12, 1}) head.u8(b);
+  head.varint(12);
+  head.varint(20);
+  for (int i = 0; i < 4 + 13; ++i) head.u64(std::bit_cast<std::uint64_t>(1.0));
+  ContainerWriter writer;
+  writer.add_chunk(kTagHeader, head.data());
+  writer.add_chunk(kTagBaseMesh, reader.chunks()[1].payload);
+  const auto file = writer.finish();
+  const DecodeResult r = decode(file);
+  CHECK(r.status == Status::limit_exceeded);
+  CHECK_THAT(r.message, Catch::Contains("limit"));
+  DecodeOptions strict;  // the caller's own cap is honoured too
+  strict.limits.max_vertices = 40;  // the stream has 42
+  CHECK(decode(valid, strict).status == Status::limit_exceeded);
 }
 
 TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
