@@ -250,6 +250,9 @@ std::string off_count_problem(const std::string& path, std::uintmax_t size) {
   for (long long v = 0; v < vertices && in.good(); ++v) {
     float x, y, z;
     in >> x >> y >> z;
+    // The reader parses floats with operator>>, which stops at "nan", "inf" or any other text
+    // and then reads garbage: name the vertex instead.
+    if (!in) return "vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number";
     if (normals) in >> x >> y >> z;
     std::getline(in, rest);
   }
@@ -408,7 +411,8 @@ std::string ply_count_problem(const std::string& path, std::uintmax_t size) {
   return "";
 }
 
-/// OBJ: the reader is line-based and bounded, but the Debian build of OpenMesh keeps its
+/// OBJ: vertex lines must hold three numbers. The reader is line-based and bounded, but the
+/// Debian build of OpenMesh keeps its
 /// assertions, and a face corner carrying a texture or normal index before any vertex index on
 /// its line ("f /4 2 3") fails assert(!vhandles.empty()) and aborts the process.
 std::string obj_corner_problem(const std::string& path) {
@@ -417,7 +421,14 @@ std::string obj_corner_problem(const std::string& path) {
   for (std::size_t number = 1; std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::string word;
-    if (!(words >> word) || word != "f") continue;
+    if (!(words >> word)) continue;
+    if (word == "v") {  // parsed with operator>> by the reader too: see off_count_problem
+      float x, y, z;
+      if (!(words >> x >> y >> z))
+        return "OBJ line " + std::to_string(number) + ": a vertex coordinate is missing or not a finite number";
+      continue;
+    }
+    if (word != "f") continue;
     bool has_vertex = false;
     while (words >> word) {
       const std::size_t slash = word.find('/');

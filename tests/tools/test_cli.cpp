@@ -84,7 +84,8 @@ TEST_CASE("bad input gets a one-line message and a non-zero exit - no output fil
       {"garbage.off", "this is not a mesh\n\x01\x02\x03", "garbage.off"},
       {"fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n", "non-manifold"},
       {"quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n", "triangles"},
-      {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "vertices"},
+      {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "vertex 1 has a coordinate that is missing or not a finite number"},
+      {"inf.obj", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n", "not a finite number"},
   };
   for (const auto& c : cases) {
     INFO(c.name);
