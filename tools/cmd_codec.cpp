@@ -15,11 +15,38 @@
 namespace meshlift::cli {
 namespace {
 
+/// PSNR of `test` against `reference` with the same vertices in the same order:
+/// 20 log10(diagonal / RMS vertex distance) (CODEC-NOTES §7, on vertices instead of surfaces).
+double vertex_psnr(const std::vector<double>& reference, const std::vector<double>& test) {
+  double sum = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) sum += (reference[i] - test[i]) * (reference[i] - test[i]);
+  const double rms = std::sqrt(sum / static_cast<double>(reference.size() / 3));
+  return rms > 0 ? 20 * std::log10(bounding_box_diagonal(reference) / rms) : std::numeric_limits<double>::infinity();
+}
+
+/// The shortest cut of `file` whose decode reaches `target_db` against `reference` (vertex PSNR),
+/// by bisection over prefix lengths (the error falls with the bytes read); the whole file if no
+/// prefix reaches it.
+std::size_t bytes_for_psnr(const std::vector<std::uint8_t>& file, const std::vector<double>& reference, double target_db) {
+  auto reaches = [&](std::size_t bytes) {
+    DecodeOptions o;
+    o.max_bytes = bytes;
+    const DecodeResult r = decode(file, o);
+    return r.status == Status::ok && vertex_psnr(reference, r.mesh.positions) >= target_db;
+  };
+  std::size_t lo = 0, hi = file.size();  // invariant: reaches(hi) or hi is the whole file
+  while (hi - lo > 1) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    (reaches(mid) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
 struct EncodeArgs {
   std::string input, output, scheme = "loop";
   bool update = false;
   int levels = -1, bits = 16;
-  double bpv = 0;
+  double bpv = 0, psnr = 0;
   std::size_t bytes = 0;
 };
 
@@ -59,6 +86,12 @@ int run_encode(const EncodeArgs& a) {
   } catch (const MeshError& e) {
     std::cerr << "meshlift: " << a.input << ": " << e.what() << "\n";
     return kBadInput;
+  }
+  if (a.psnr > 0) {
+    // PSNR against the semi-regular input itself, per vertex (its vertices in stream order).
+    const std::size_t cut = bytes_for_psnr(file, canonical_order(*mesh).positions, a.psnr);
+    std::vector<std::uint8_t> truncated;
+    if (cut < file.size() && truncate_file(file, cut, truncated) == Status::ok) file = std::move(truncated);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::string error;
@@ -151,14 +184,6 @@ struct StreamArgs {
   std::size_t every = 0;
 };
 
-/// PSNR of `test` against `reference` with the same vertices in the same order:
-/// 20 log10(diagonal / RMS vertex distance) (CODEC-NOTES §7, on vertices instead of surfaces).
-double vertex_psnr(const std::vector<double>& reference, const std::vector<double>& test) {
-  double sum = 0;
-  for (std::size_t i = 0; i < reference.size(); ++i) sum += (reference[i] - test[i]) * (reference[i] - test[i]);
-  const double rms = std::sqrt(sum / static_cast<double>(reference.size() / 3));
-  return rms > 0 ? 20 * std::log10(bounding_box_diagonal(reference) / rms) : std::numeric_limits<double>::infinity();
-}
 
 int run_stream(const StreamArgs& a) {
   std::vector<std::uint8_t> file;
@@ -241,7 +266,13 @@ void register_encode(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(1, 40));
   auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")
                   ->check(CLI::PositiveNumber);
-  cmd->add_option("--bytes", a->bytes, "cut the stream at this many bytes")->check(CLI::PositiveNumber)->excludes(bpv);
+  auto* bytes = cmd->add_option("--bytes", a->bytes, "cut the stream at this many bytes")->check(CLI::PositiveNumber)->excludes(bpv);
+  cmd->add_option("--psnr", a->psnr,
+                  "cut the stream at the shortest prefix reaching this PSNR in dB (vertex RMS against the input "
+                  "semi-regular mesh, bounding-box diagonal as peak)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(bpv)
+      ->excludes(bytes);
   cmd->callback([a, &exit_code] { exit_code = run_encode(*a); });
 }
 

@@ -156,6 +156,16 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   const std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
   CHECK(std::stod(last.substr(last.rfind(',') + 1)) > 80.0);
 
+  // --psnr: the shortest prefix reaching 60 dB against the input; its whole decode reaches it.
+  const std::string target = (dir / "p60.mlz").string();
+  REQUIRE(run("encode " + fine + " -o " + target + " --scheme butterfly --psnr 60").exit_code == 0);
+  CHECK(fs::file_size(target) < size);
+  REQUIRE(run("stream " + target + " --every 1000000 -o " + (dir / "p60").string() + " --reference " + fine + " --csv " +
+              (dir / "p60.csv").string())
+              .exit_code == 0);
+  const std::string p60 = read_file(dir / "p60.csv");
+  CHECK(std::stod(p60.substr(p60.rfind(',') + 1)) >= 60.0);
+
   // Flip a byte in the last chunk's payload: checksum_mismatch, error 5, no output written.
   std::string bytes = read_file(mlz);
   bytes[bytes.size() - 6] = static_cast<char>(bytes[bytes.size() - 6] ^ 0x10);
