@@ -72,11 +72,10 @@ bool run(const Forest& f, int top, Io& io) {
     }
   }
   auto has_children = [&](std::uint32_t v) { return f.child_offsets[v + 1] > f.child_offsets[v]; };
-  auto has_grandchildren = [&](std::uint32_t v) {
-    for (std::uint32_t k = f.child_offsets[v]; k < f.child_offsets[v + 1]; ++k)
-      if (has_children(f.children[k])) return true;
-    return false;
-  };
+  // Every child of a vertex of level j is of level j + 1 and has children unless that is the
+  // finest level: no need to look at the children themselves.
+  const int finest = f.level.empty() ? 0 : f.level.back();
+  auto has_grandchildren = [&](std::uint32_t v) { return has_children(v) && f.level[v] + 2 <= finest; };
   for (int n = top; n >= 0; --n) {
     io.begin_plane(n);
     for (int c = 0; c < kComponents; ++c) {
