@@ -67,16 +67,6 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
   return {};
 }
 
-/// Vertex count after `levels` refinements: V' = V + E, E' = 2E + 3F, F' = 4F.
-double refined_vertex_count(const TriangleTopology& base, int levels) {
-  double v = base.vertex_count, e = static_cast<double>(base.edge_count()), f = static_cast<double>(base.face_count());
-  for (int j = 0; j < levels; ++j) {
-    v += e;
-    e = 2 * e + 3 * f;
-    f *= 4;
-  }
-  return v;
-}
 
 }  // namespace
 
@@ -101,7 +91,7 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
   } catch (const MeshError& e) {
     return failure(Status::corrupt, std::string("the base mesh is not a manifold mesh: ") + e.what());
   }
-  const double vertices = refined_vertex_count(base, header.levels);
+  const double vertices = refined_size(base, header.levels).vertices;
   if (vertices > static_cast<double>(options.limits.max_vertices))
     return failure(Status::limit_exceeded, "the stream refines to " + std::to_string(static_cast<std::uint64_t>(vertices)) +
                                                " vertices (limit " + std::to_string(options.limits.max_vertices) + ")");
@@ -166,7 +156,7 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
     if (base_mesh::decode_faces(stream.base->payload, h.base_vertices, h.base_faces, triangles)) {
       try {
         info.vertices = static_cast<std::uint64_t>(
-            refined_vertex_count(TriangleTopology::build(h.base_vertices, triangles), h.levels));
+            refined_size(TriangleTopology::build(h.base_vertices, triangles), h.levels).vertices);
       } catch (const MeshError&) {
       }
     }

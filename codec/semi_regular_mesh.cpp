@@ -5,21 +5,20 @@
 
 namespace meshlift {
 
+RefinedSize refined_size(const TriangleTopology& base, int levels) {
+  RefinedSize s{static_cast<double>(base.vertex_count), static_cast<double>(base.edge_count()),
+                static_cast<double>(base.face_count())};
+  for (int j = 0; j < levels; ++j) s = {s.vertices + s.edges, 2 * s.edges + 3 * s.faces, 4 * s.faces};
+  return s;
+}
+
 SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
   if (levels < 0 || levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " + std::to_string(levels));
-  // V_{j+1} = V_j + E_j, E_{j+1} = 2E_j + 3F_j, F_{j+1} = 4F_j: check the finest size fits 32-bit indices.
-  {
-    double v = base.vertex_count, e = static_cast<double>(base.edge_count()), f = static_cast<double>(base.face_count());
-    for (int j = 0; j < levels; ++j) {
-      v += e;
-      e = 2 * e + 3 * f;
-      f *= 4;
-    }
-    if (std::max({v, e, 3 * f}) >= 4294967295.0)
-      throw MeshError("refining " + std::to_string(base.face_count()) + " faces " + std::to_string(levels) +
-                      " times exceeds 2^32 indices");
-  }
+  const RefinedSize size = refined_size(base, levels);
+  if (std::max({size.vertices, size.edges, 3 * size.faces}) >= 4294967295.0)
+    throw MeshError("refining " + std::to_string(base.face_count()) + " faces " + std::to_string(levels) +
+                    " times exceeds 2^32 indices");
   vertex_counts_.push_back(base.vertex_count);
   topologies_.reserve(levels);
   topologies_.push_back(std::move(base));

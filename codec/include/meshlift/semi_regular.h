@@ -16,6 +16,13 @@ namespace meshlift {
 /// Hard cap on refinement levels (4^L faces per base face).
 inline constexpr int kMaxLevels = 12;
 
+/// Element counts after `levels` 1:4 refinements of `base`: V' = V + E, E' = 2E + 3F, F' = 4F.
+/// Doubles, so that absurd level counts can be checked before anything is allocated.
+struct RefinedSize {
+  double vertices, edges, faces;
+};
+RefinedSize refined_size(const TriangleTopology& base, int levels);
+
 class SemiRegularHierarchy {
  public:
   /// \pre base is a manifold triangle topology; 0 <= levels <= kMaxLevels.
