@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libopenmesh-dev libcli11-dev catch2
   libzstd-dev libxxhash-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  draco
 )
 
 missing=()

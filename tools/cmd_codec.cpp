@@ -188,11 +188,13 @@ struct StreamArgs {
 int run_stream(const StreamArgs& a) {
   std::vector<std::uint8_t> file;
   if (!load_stream(a.input, file)) return kBadInput;
-  std::error_code ec;
-  std::filesystem::create_directories(a.directory, ec);
-  if (ec) {
-    std::cerr << "meshlift: " << a.directory << ": cannot create the directory: " << ec.message() << "\n";
-    return kOutputError;
+  if (!a.directory.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.directory, ec);
+    if (ec) {
+      std::cerr << "meshlift: " << a.directory << ": cannot create the directory: " << ec.message() << "\n";
+      return kOutputError;
+    }
   }
   std::vector<double> reference;
   if (!a.reference.empty()) {
@@ -233,9 +235,10 @@ int run_stream(const StreamArgs& a) {
     }
     char name[64];
     std::snprintf(name, sizeof name, "prefix_%09zu.ply", at);
-    const std::string path = (std::filesystem::path(a.directory) / name).string();
-    if (!save_mesh(path, r.mesh, true)) return kOutputError;
-    ++written;
+    if (!a.directory.empty()) {
+      if (!save_mesh((std::filesystem::path(a.directory) / name).string(), r.mesh, true)) return kOutputError;
+      ++written;
+    }
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
     const double psnr = reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
                                                                      : std::numeric_limits<double>::quiet_NaN();
@@ -246,7 +249,7 @@ int run_stream(const StreamArgs& a) {
     if (csv) std::fprintf(csv, "%zu,%.4f,%zu,%d,%.3f\n", at, bpv, r.mesh.vertex_count(), r.bit_plane, psnr);
   }
   if (csv) std::fclose(csv);
-  std::fprintf(stderr, "%zu meshes written to %s\n", written, a.directory.c_str());
+  if (!a.directory.empty()) std::fprintf(stderr, "%zu meshes written to %s\n", written, a.directory.c_str());
   return kOk;
 }
 
@@ -304,7 +307,7 @@ void register_stream(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("stream", "Write the mesh a streaming viewer holds after every N bytes");
   cmd->add_option("input", a->input, "input .mlz file")->required();
   cmd->add_option("--every", a->every, "bytes between snapshots")->required()->check(CLI::PositiveNumber);
-  cmd->add_option("-o,--output", a->directory, "output directory")->required();
+  cmd->add_option("-o,--output", a->directory, "directory for the meshes (none written without it)");
   cmd->add_option("--reference", a->reference,
                   "the encoded semi-regular mesh: print the PSNR of each snapshot against it");
   cmd->add_option("--csv", a->csv, "write bytes, bits per vertex, bit plane and PSNR per snapshot to this file");
