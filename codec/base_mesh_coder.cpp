@@ -1,7 +1,6 @@
 #include "base_mesh_coder.h"
 
 #include <algorithm>
-#include <deque>
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
@@ -57,15 +56,18 @@ enum Previous : int { kWasNew = 0, kWasRight = 1, kWasLeft = 2, kWasOther = 3 };
 
 /// The models of the traversal symbols (FORMAT.md §4), the gate symbols per previous symbol.
 struct Models {
-  BitModel boundary[4], right[4], left[4], new_vertex[4], start_new;
+  BitModel boundary[4], right[4][6], left[4][6], new_vertex[4][6], start_new;
   UintCoder index, vertex;
 };
 
 /// What encoder and decoder both know, in the new labels: the faces coded so far, their directed
-/// edges, the open edges (coded, twin not coded) at each vertex, and the queue of gates.
+/// edges, the open edges (coded, twin not coded) at each vertex, and the stack of gates.
 class Front {
  public:
-  explicit Front(std::uint32_t vertex_count) : out_open_(vertex_count), in_open_(vertex_count) {}
+  explicit Front(std::uint32_t vertex_count)
+      : out_open_(vertex_count), in_open_(vertex_count), faces_at_(vertex_count, 0) {}
+  /// Faces coded around v so far, capped at 5: a vertex with many is likely to be closed next.
+  int faces_at(std::uint32_t v) const { return std::min<int>(faces_at_[v], 5); }
 
   /// Adds face (a, b, c); false if it repeats a coded directed edge (not a manifold mesh).
   bool add_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
@@ -73,6 +75,9 @@ class Front {
     for (int i = 0; i < 3; ++i)
       if (coded_.count(key(corners[i], corners[(i + 1) % 3]))) return false;
     faces.insert(faces.end(), {a, b, c});
+    ++faces_at_[a];
+    ++faces_at_[b];
+    ++faces_at_[c];
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t u = corners[i], w = corners[(i + 1) % 3];
       coded_.insert(key(u, w));
@@ -90,8 +95,8 @@ class Front {
   /// The next gate a -> b whose far side is not coded yet; false when there is none.
   bool next_gate(std::uint32_t& a, std::uint32_t& b) {
     while (!gates_.empty()) {
-      const auto [u, w] = gates_.front();
-      gates_.pop_front();
+      const auto [u, w] = gates_.back();
+      gates_.pop_back();
       if (!coded_.count(key(w, u))) {
         a = u;
         b = w;
@@ -111,8 +116,9 @@ class Front {
  private:
   static void erase(std::vector<std::uint32_t>& v, std::uint32_t x) { v.erase(std::find(v.begin(), v.end(), x)); }
   std::vector<std::vector<std::uint32_t>> out_open_, in_open_;
+  std::vector<std::uint32_t> faces_at_;
   std::unordered_set<std::uint64_t> coded_;
-  std::deque<std::pair<std::uint32_t, std::uint32_t>> gates_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> gates_;  // newest last
 };
 
 std::uint32_t position_in(const std::vector<std::uint32_t>& list, std::uint32_t x) {
@@ -166,7 +172,7 @@ std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles,
         if (label[v] == kNone)
           corners[i] = new_label(v);
         else
-          m.vertex.encode(encoder, corners[i] = label[v]);
+          m.vertex.encode(encoder, front.seen - 1 - (corners[i] = label[v]));
       }
       take_face(next_start, 0, corners[0], corners[1], corners[2]);
       continue;
@@ -182,8 +188,9 @@ std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles,
     std::uint32_t c = label[c_old];
     bool named = false;
     const int context = previous;
-    for (const auto& [list, model, kind] : {std::tuple{&front.right(a), &m.right[context], kWasRight},
-                                            std::tuple{&front.left(b), &m.left[context], kWasLeft}}) {
+    for (const auto& [list, model, kind] :
+         {std::tuple{&front.right(a), &m.right[context][front.faces_at(a)], kWasRight},
+          std::tuple{&front.left(b), &m.left[context][front.faces_at(b)], kWasLeft}}) {
       if (named || list->empty()) continue;
       const bool here = c != kNone && std::find(list->begin(), list->end(), c) != list->end();
       encoder.encode(*model, here);
@@ -192,12 +199,12 @@ std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles,
       if (here) previous = kind;
     }
     if (!named) {
-      encoder.encode(m.new_vertex[context], c == kNone);
+      encoder.encode(m.new_vertex[context][front.faces_at(b)], c == kNone);
       previous = c == kNone ? kWasNew : kWasOther;
       if (c == kNone)
         c = new_label(c_old);
       else
-        m.vertex.encode(encoder, c);
+        m.vertex.encode(encoder, front.seen - 1 - c);
     }
     take_face(f, r, b, a, c);
   }
@@ -217,7 +224,12 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
     return !decoder.exhausted();
   };
   // A vertex named explicitly must already be labelled; a new one gets the next label.
-  auto named_vertex = [&](std::uint32_t& v) { return m.vertex.decode(decoder, v) && v < front.seen; };
+  auto named_vertex = [&](std::uint32_t& v) {
+    std::uint32_t back = 0;
+    if (!m.vertex.decode(decoder, back) || back >= front.seen) return false;
+    v = front.seen - 1 - back;
+    return true;
+  };
   auto fresh_vertex = [&](std::uint32_t& v) {
     if (front.seen >= vertex_count) return false;
     v = front.seen++;
@@ -244,8 +256,9 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
     }
     std::uint32_t c = kNone;
     const int context = previous;
-    for (const auto& [list, model, kind] : {std::tuple{&front.right(a), &m.right[context], kWasRight},
-                                            std::tuple{&front.left(b), &m.left[context], kWasLeft}}) {
+    for (const auto& [list, model, kind] :
+         {std::tuple{&front.right(a), &m.right[context][front.faces_at(a)], kWasRight},
+          std::tuple{&front.left(b), &m.left[context][front.faces_at(b)], kWasLeft}}) {
       if (c != kNone || list->empty()) continue;
       if (!bit(*model, s)) return false;
       if (!s) continue;
@@ -255,7 +268,7 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
       previous = kind;
     }
     if (c == kNone) {
-      if (!bit(m.new_vertex[context], s)) return false;
+      if (!bit(m.new_vertex[context][front.faces_at(b)], s)) return false;
       previous = s ? kWasNew : kWasOther;
       if (!(s ? fresh_vertex(c) : named_vertex(c))) return false;
     }

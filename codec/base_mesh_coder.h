@@ -1,8 +1,10 @@
 // Base mesh connectivity (FORMAT.md §4): a face-by-face traversal in the spirit of Edgebreaker
-// (Rossignac 1999). Faces are visited breadth first across "gates", the open edges of the region
-// coded so far; for each gate one symbol says what lies across it: the boundary, a face whose
-// third vertex closes the front on the right or on the left (an open edge at a gate vertex), a
-// face with a vertex never seen before, or (rarely) any other vertex, coded explicitly. Vertices
+// (Rossignac 1999). Faces are visited across "gates", the open edges of the region coded so far,
+// newest gate first (so the traversal spirals like Edgebreaker's); for each gate one symbol says
+// what lies across it: the boundary, a face whose third vertex closes the front on the right or
+// on the left (an open edge at a gate vertex), a face with a vertex never seen before, or
+// (rarely: where the front touches itself) any other vertex, coded as how many labels back it
+// was given. Contexts: the previous symbol and the faces already around the gate vertex. Vertices
 // are numbered in the order the traversal first meets them and faces in the order it codes them,
 // so a new vertex costs only its symbol: `canonical_order` (codec.h) puts a mesh in that order.
 #pragma once
