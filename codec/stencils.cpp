@@ -147,11 +147,24 @@ void butterfly_row(const TriangleTopology& t, const VertexEdges& ve, std::uint32
   }
 }
 
+/// The wing vertices of every edge, 2 per edge: the vertex opposite the edge in edge_faces[2e],
+/// then in edge_faces[2e+1] (kNone on a boundary). One pass over the faces.
+std::vector<std::uint32_t> wing_vertices(const TriangleTopology& t) {
+  std::vector<std::uint32_t> wings(2 * t.edge_count(), kNone);
+  for (std::uint32_t f = 0; f < t.face_count(); ++f)
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t e = t.face_edges[3 * f + i];
+      wings[2 * e + (t.edge_faces[2 * e] == f ? 0 : 1)] = t.triangles[3 * f + (i + 2) % 3];
+    }
+  return wings;
+}
+
 }  // namespace
 
 LiftingStep predict(const TriangleTopology& t, const VertexEdges& ve, Scheme scheme) {
   LiftingStep step = empty_step(t.vertex_count, t.edge_count(), 4);
   RowBuilder row;
+  const std::vector<std::uint32_t> wings = scheme == Scheme::loop ? wing_vertices(t) : std::vector<std::uint32_t>{};
   for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
     const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
     switch (scheme) {
@@ -172,8 +185,8 @@ LiftingStep predict(const TriangleTopology& t, const VertexEdges& ve, Scheme sch
           // Interior edge: odd = 3/8 (a + b) + 1/8 (c + d), c, d the wing vertices.
           row.add(a, 3.0 / 8);
           row.add(b, 3.0 / 8);
-          row.add(t.opposite_vertex(t.edge_faces[2 * e], e), 1.0 / 8);
-          row.add(t.opposite_vertex(t.edge_faces[2 * e + 1], e), 1.0 / 8);
+          row.add(wings[2 * e], 1.0 / 8);
+          row.add(wings[2 * e + 1], 1.0 / 8);
         }
         break;
     }
@@ -186,6 +199,7 @@ LiftingStep loop_update(const TriangleTopology& t, const VertexEdges& ve) {
   const std::uint32_t V = t.vertex_count;
   LiftingStep step = empty_step(0, V, 6);
   RowBuilder row;
+  std::vector<double> w_by_valence;  // w_n, computed once per valence
   for (std::uint32_t v = 0; v < V; ++v) {
     const unsigned n = ve.valence(v);
     double scale = 1.0;  // isolated vertex: nothing to average
@@ -199,7 +213,11 @@ LiftingStep loop_update(const TriangleTopology& t, const VertexEdges& ve) {
     } else {
       // Interior even: sum of its n odds = 3n/8 v + 5/8 sum(v_i), so Loop's
       // v' = (1 - n beta) v + beta sum(v_i) = s_n v + w_n sum(odd), w_n = 8 beta / 5, s_n = 1 - n w_n.
-      const double w = 8.0 * loop_beta(n) / 5.0;
+      while (w_by_valence.size() <= n) {
+        const auto k = static_cast<unsigned>(w_by_valence.size());
+        w_by_valence.push_back(k == 0 ? 0.0 : 8.0 * loop_beta(k) / 5.0);
+      }
+      const double w = w_by_valence[n];
       scale = 1.0 - n * w;
       for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k) row.add(V + ve.edges[k], w);
     }
