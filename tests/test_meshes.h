@@ -100,6 +100,14 @@ inline std::vector<double> random_values(std::size_t count, unsigned seed = 1) {
   return v;
 }
 
+/// `mesh` with every coordinate moved by up to ±amplitude (deterministic, random_values(seed)).
+template <typename Mesh>
+Mesh perturbed(Mesh mesh, double amplitude, unsigned seed) {
+  const std::vector<double> noise = random_values(mesh.positions.size(), seed);
+  for (std::size_t i = 0; i < noise.size(); ++i) mesh.positions[i] += amplitude * noise[i];
+  return mesh;
+}
+
 /// Unit cube as 6 quads (all vertices valence 3).
 inline PolygonMesh cube_quads() {
   PolygonMesh m;

@@ -53,4 +53,22 @@ PolygonMesh from_openmesh(const OM& om) {
   return mesh;
 }
 
+/// Positions (xyz) of the vertices of `mesh` after `levels` steps of an OpenMesh uniform
+/// subdivider (e.g. OpenMesh::Subdivider::Uniform::LoopT<OpenMeshTri, double>). Those subdividers
+/// append new vertices and keep the old indices, so these are the first vertex_count() vertices.
+template <typename OM, typename Subdivider>
+std::vector<double> openmesh_subdivided_originals(const PolygonMesh& mesh, int levels) {
+  OM om = to_openmesh<OM>(mesh);
+  Subdivider subdivider;
+  REQUIRE(subdivider(om, static_cast<std::size_t>(levels)));
+  REQUIRE(om.n_vertices() > mesh.vertex_count());
+  std::vector<double> positions;
+  positions.reserve(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const auto& p = om.point(typename OM::VertexHandle(static_cast<int>(v)));
+    positions.insert(positions.end(), {p[0], p[1], p[2]});
+  }
+  return positions;
+}
+
 }  // namespace meshlift::test

@@ -20,6 +20,7 @@ enum Exit : int {
 void register_info(CLI::App& app, int& exit_code);
 void register_subdivide(CLI::App& app, int& exit_code);
 void register_limit(CLI::App& app, int& exit_code);
+void register_fit(CLI::App& app, int& exit_code);
 void register_encode(CLI::App& app, int& exit_code);
 void register_decode(CLI::App& app, int& exit_code);
 void register_truncate(CLI::App& app, int& exit_code);

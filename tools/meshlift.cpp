@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   register_info(app, exit_code);
   register_subdivide(app, exit_code);
   register_limit(app, exit_code);
+  register_fit(app, exit_code);
   register_encode(app, exit_code);
   register_decode(app, exit_code);
   register_truncate(app, exit_code);
