@@ -1,5 +1,6 @@
 // Drives the built `meshlift` executable: exit codes, one-line messages, files left untouched.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -101,6 +102,35 @@ TEST_CASE("bad input gets a one-line message and a non-zero exit - no output fil
   CHECK(count_lines(missing.output) == 1);
   const auto usage = run("subdivide " + (dir / "fin.off").string() + " -o " + out.string() + " --scheme nonsense");
   CHECK(usage.exit_code == 2);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("fit writes a control mesh whose Loop limit interpolates the input", "[cli]") {
+  const fs::path dir = scratch();
+  const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
+  const std::string fine = (dir / "tet1.off").string(), fitted = (dir / "fit.off").string(),
+                    limit = (dir / "limit.off").string();
+  REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme loop --levels 1").exit_code == 0);
+  const auto r = run("fit " + fine + " -o " + fitted + " --scheme loop");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Catch::Contains("converged"));
+  // The limit points of the fitted control mesh are the input's vertices (to float precision).
+  REQUIRE(run("limit " + fitted + " -o " + limit + " --scheme loop").exit_code == 0);
+  std::istringstream a(read_file(fine)), b(read_file(limit));
+  std::string magic_a, magic_b;
+  int va = 0, fa = 0, ea = 0, vb = 0, fb = 0, eb = 0;
+  a >> magic_a >> va >> fa >> ea;
+  b >> magic_b >> vb >> fb >> eb;
+  REQUIRE(va == vb);
+  double worst = 0;
+  for (int i = 0; i < 3 * va; ++i) {
+    double x = 0, y = 0;
+    a >> x;
+    b >> y;
+    worst = std::max(worst, std::abs(x - y));
+  }
+  CHECK(worst < 1e-5);
+  CHECK(run("fit " + fine + " -o " + fine).exit_code == 4);  // never over the input
   fs::remove_all(dir);
 }
 
