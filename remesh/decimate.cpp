@@ -1,0 +1,342 @@
+// Base mesh by quadric-error halfedge collapse: seed 002 §8.3.5 (edge collapse, the merged
+// vertex placed at one of the old ones, Figure 8.15a) with Garland & Heckbert's priority
+// ("Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997), run by OpenMesh's
+// DecimaterT, whose is_collapse_legal() keeps the topology (link condition, no tetrahedron
+// collapse, boundary vertices only along boundary edges).
+#include "meshlift/decimate.h"
+
+#include <OpenMesh/Core/Utils/vector_traits.hh>  // QuadricT.hh uses it without including it
+#include <OpenMesh/Core/Geometry/QuadricT.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "meshlift/validate.h"
+
+namespace meshlift {
+
+namespace {
+
+struct Traits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+};
+using HalfedgeMesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
+using Quadric = OpenMesh::Geometry::Quadricd;
+
+// Weight of a boundary edge's constraint plane relative to a face plane of the same size
+// (both scale with length²). Garland & Heckbert §6.2 give boundary edges a perpendicular plane
+// "weighted by a large penalty factor"; 10 keeps boundary corners against flat-region collapses
+// without letting boundary edges dominate the curvature of the interior.
+constexpr double kBoundaryPlaneWeight = 10.0;
+
+/// Priority module: Garland-Heckbert quadrics as in OpenMesh's ModQuadricT (area-weighted face
+/// planes summed at the vertices, Q(v1) += Q(v0) after each collapse, cost Q(v0)+Q(v1) at p1),
+/// plus one constraint plane per boundary edge, perpendicular to its face and through the edge,
+/// added to both ends. ModQuadricT has no boundary term and keeps its quadrics private, hence
+/// this copy of its few lines.
+template <typename MeshT>
+class ModBoundaryQuadricT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModBoundaryQuadricT, MeshT, BoundaryQuadric);
+
+  explicit ModBoundaryQuadricT(MeshT& mesh) : Base(mesh, false) { mesh.add_property(quadrics_); }
+  ~ModBoundaryQuadricT() override { Base::mesh().remove_property(quadrics_); }
+
+  void initialize() override {
+    MeshT& m = Base::mesh();
+    for (const auto v : m.vertices()) m.property(quadrics_, v).clear();
+    // Face plane n·x + d = 0 weighted by the face area (ModQuadricT_impl.hh).
+    for (const auto f : m.faces()) {
+      auto corner = m.cfv_begin(f);
+      const auto v0 = *corner, v1 = *++corner, v2 = *++corner;
+      const auto& p0 = m.point(v0);
+      OpenMesh::Vec3d n = (m.point(v1) - p0) % (m.point(v2) - p0);
+      const double twice_area = n.norm();
+      if (twice_area <= DBL_MIN) continue;  // a zero-area face has no plane
+      n /= twice_area;
+      Quadric q(n[0], n[1], n[2], -(n | p0));
+      q *= 0.5 * twice_area;
+      m.property(quadrics_, v0) += q;
+      m.property(quadrics_, v1) += q;
+      m.property(quadrics_, v2) += q;
+    }
+    // Boundary edge a→b of face f (normal n): plane with normal (b − a) × n through a, weight
+    // kBoundaryPlaneWeight·|b − a|² (Garland & Heckbert §6.2).
+    for (const auto h : m.halfedges()) {
+      if (!m.is_boundary(h)) continue;
+      const auto inner = m.opposite_halfedge_handle(h);
+      const auto a = m.from_vertex_handle(inner), b = m.to_vertex_handle(inner);
+      const OpenMesh::Vec3d edge = m.point(b) - m.point(a);
+      const OpenMesh::Vec3d n = m.calc_face_normal(m.face_handle(inner));
+      OpenMesh::Vec3d across = edge % n;
+      const double length = across.norm();
+      if (length <= DBL_MIN) continue;
+      across /= length;
+      Quadric q(across[0], across[1], across[2], -(across | m.point(a)));
+      q *= kBoundaryPlaneWeight * edge.sqrnorm();
+      m.property(quadrics_, a) += q;
+      m.property(quadrics_, b) += q;
+    }
+  }
+
+  float collapse_priority(const CollapseInfo& ci) override {
+    Quadric q = Base::mesh().property(quadrics_, ci.v0);
+    q += Base::mesh().property(quadrics_, ci.v1);
+    return static_cast<float>(q(ci.p1));
+  }
+
+  void postprocess_collapse(const CollapseInfo& ci) override {
+    Base::mesh().property(quadrics_, ci.v1) += Base::mesh().property(quadrics_, ci.v0);
+  }
+
+ private:
+  OpenMesh::VPropHandleT<Quadric> quadrics_;
+};
+
+/// Binary module: no face may turn away from the input surface at its corners. A face is
+/// refused when its normal after the collapse makes an angle of 90° or more with the input's
+/// area-weighted vertex normal at one of its corners (vertices keep their identity, so the input
+/// normals stay valid). ModNormalFlippingT only bounds the turn of one collapse against the
+/// normals just before it, so turns can accumulate over many collapses; this bounds the result.
+template <typename MeshT>
+class ModInputNormalT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModInputNormalT, MeshT, InputNormal);
+
+  explicit ModInputNormalT(MeshT& mesh) : Base(mesh, true) { mesh.add_property(input_normal_); }
+  ~ModInputNormalT() override { Base::mesh().remove_property(input_normal_); }
+
+  void initialize() override {
+    MeshT& m = Base::mesh();
+    for (const auto v : m.vertices()) m.property(input_normal_, v) = OpenMesh::Vec3d(0, 0, 0);
+    for (const auto f : m.faces()) {
+      auto corner = m.cfv_begin(f);
+      const auto v0 = *corner, v1 = *++corner, v2 = *++corner;
+      const OpenMesh::Vec3d area_vector = (m.point(v1) - m.point(v0)) % (m.point(v2) - m.point(v0));
+      for (const auto v : {v0, v1, v2}) m.property(input_normal_, v) += area_vector;
+    }
+  }
+
+  float collapse_priority(const CollapseInfo& ci) override {
+    MeshT& m = Base::mesh();
+    bool legal = true;
+    m.set_point(ci.v0, ci.p1);  // simulate the collapse, as ModNormalFlippingT does
+    for (auto face = m.cvf_begin(ci.v0); legal && face.is_valid(); ++face) {
+      if (*face == ci.fl || *face == ci.fr) continue;
+      auto corner = m.cfv_begin(*face);
+      const auto v0 = *corner, v1 = *++corner, v2 = *++corner;
+      const OpenMesh::Vec3d area_vector = (m.point(v1) - m.point(v0)) % (m.point(v2) - m.point(v0));
+      for (const auto v : {v0, v1, v2})
+        if ((area_vector | m.property(input_normal_, v == ci.v0 ? ci.v1 : v)) <= 0) legal = false;
+    }
+    m.set_point(ci.v0, ci.p0);
+    return legal ? float(Base::LEGAL_COLLAPSE) : float(Base::ILLEGAL_COLLAPSE);
+  }
+
+ private:
+  OpenMesh::VPropHandleT<OpenMesh::Vec3d> input_normal_;
+};
+
+/// Binary module: refuses a collapse that would take a connected component below its floor.
+///
+/// DecimaterT evaluates the modules only when it (re)queues a vertex, and at the pop re-checks
+/// just is_collapse_legal(), so a count that changes far away (the component's) needs more than
+/// a veto: once a component reaches its floor, all its vertices are locked, which
+/// is_collapse_legal() does check at the pop.
+template <typename MeshT>
+class ModComponentFloorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModComponentFloorT, MeshT, ComponentFloor);
+
+  explicit ModComponentFloorT(MeshT& mesh) : Base(mesh, true) { mesh.add_property(component_); }
+  ~ModComponentFloorT() override { Base::mesh().remove_property(component_); }
+
+  /// `component[v]` for every vertex handle index v, `floor[c]` the fewest vertices component c
+  /// may keep. Locks the components already at their floor.
+  void set_components(const std::vector<std::uint32_t>& component, const std::vector<std::size_t>& floor) {
+    members_.assign(floor.size(), {});
+    for (const auto v : Base::mesh().vertices()) {
+      Base::mesh().property(component_, v) = component[v.idx()];
+      members_[component[v.idx()]].push_back(v);
+    }
+    floor_ = floor;
+    remaining_.clear();
+    for (std::size_t c = 0; c < floor_.size(); ++c) {
+      remaining_.push_back(members_[c].size());
+      if (remaining_[c] <= floor_[c]) lock(c);
+    }
+  }
+
+  float collapse_priority(const CollapseInfo& ci) override {
+    const std::uint32_t c = Base::mesh().property(component_, ci.v0);
+    return remaining_[c] > floor_[c] ? float(Base::LEGAL_COLLAPSE) : float(Base::ILLEGAL_COLLAPSE);
+  }
+
+  void postprocess_collapse(const CollapseInfo& ci) override {
+    const std::uint32_t c = Base::mesh().property(component_, ci.v0);
+    if (--remaining_[c] <= floor_[c]) lock(c);
+  }
+
+ private:
+  void lock(std::size_t c) {
+    for (const auto v : members_[c]) Base::mesh().status(v).set_locked(true);
+  }
+
+  OpenMesh::VPropHandleT<std::uint32_t> component_;
+  std::vector<std::vector<typename MeshT::VertexHandle>> members_;
+  std::vector<std::size_t> remaining_;
+  std::vector<std::size_t> floor_;
+};
+
+void check_options(const DecimateOptions& options) {
+  if (options.levels < 0 || options.levels > 15)
+    throw std::invalid_argument("decimate: levels must be in 0..15, got " + std::to_string(options.levels));
+  if (!(options.max_normal_deviation_degrees > 0 && options.max_normal_deviation_degrees <= 180))
+    throw std::invalid_argument("decimate: max_normal_deviation_degrees must be in (0, 180], got " +
+                                std::to_string(options.max_normal_deviation_degrees));
+  if (!(options.min_aspect_ratio >= 1 && std::isfinite(options.min_aspect_ratio)))
+    throw std::invalid_argument("decimate: min_aspect_ratio must be finite and >= 1, got " +
+                                std::to_string(options.min_aspect_ratio));
+}
+
+MeshReport checked_report(const TriangleMesh& mesh) {
+  MeshReport report = validate_mesh(mesh);
+  if (const std::string problem = first_problem_for_triangle_codec(report); !problem.empty()) throw MeshError(problem);
+  return report;
+}
+
+/// Connected components of the referenced vertices (joined through faces), numbered in the
+/// order of validate_mesh's component list.
+struct Components {
+  std::vector<std::uint32_t> of_vertex;  // kNone for isolated vertices
+  std::vector<std::size_t> vertices;     // per component
+  std::vector<std::size_t> topological_floor;
+};
+
+Components find_components(const TriangleMesh& mesh, const MeshReport& report) {
+  const std::size_t n = mesh.vertex_count();
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (std::size_t i = 0; i < mesh.triangles.size(); i += 3)
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = root(mesh.triangles[i]), b = root(mesh.triangles[i + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  Components components;
+  std::vector<std::uint32_t> id_of_root(n, kNone);
+  for (std::size_t c = 0; c < report.components.size(); ++c) {
+    const ComponentReport& component = report.components[c];
+    id_of_root[root(mesh.triangles[3 * std::size_t(component.first_face)])] = static_cast<std::uint32_t>(c);
+    components.vertices.push_back(component.vertices);
+    // Floor of the automatic target: 8 + 6·genus + 3·boundary loops (decimate.h).
+    const std::size_t floor = 8 + 6 * std::size_t(component.genus) + 3 * component.boundary_loops;
+    components.topological_floor.push_back(std::min<std::size_t>(component.vertices, floor));
+  }
+  components.of_vertex.assign(n, kNone);
+  for (const std::uint32_t v : mesh.triangles) components.of_vertex[v] = id_of_root[root(v)];
+  return components;
+}
+
+std::size_t automatic_target(std::size_t referenced_vertices, int levels, const Components& components) {
+  // Loop refinement: V_{l+1} = V_l + E_l ≈ 4 V_l (E ≈ 3V on a closed mesh), so the refined base
+  // has about 4^levels · V_base vertices.
+  const std::size_t refinement = std::size_t{1} << (2 * levels);
+  const std::size_t from_detail = (referenced_vertices + refinement - 1) / refinement;
+  const std::size_t floor =
+      std::accumulate(components.topological_floor.begin(), components.topological_floor.end(), std::size_t{0});
+  return std::max(from_detail, floor);
+}
+
+}  // namespace
+
+std::size_t automatic_base_vertices(const TriangleMesh& mesh, int levels) {
+  check_options(DecimateOptions{.levels = levels});
+  const MeshReport report = checked_report(mesh);
+  return automatic_target(report.referenced_vertices, levels, find_components(mesh, report));
+}
+
+DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
+  check_options(options);
+  const MeshReport report = checked_report(mesh);
+  const Components components = find_components(mesh, report);
+
+  // Only referenced vertices enter the half-edge mesh; input_index maps back.
+  HalfedgeMesh half_edge;
+  std::vector<std::uint32_t> input_index;
+  std::vector<HalfedgeMesh::VertexHandle> handle(mesh.vertex_count());
+  std::vector<std::uint32_t> component_of_handle;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (components.of_vertex[v] == kNone) continue;
+    handle[v] = half_edge.add_vertex({mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]});
+    input_index.push_back(static_cast<std::uint32_t>(v));
+    component_of_handle.push_back(components.of_vertex[v]);
+  }
+  for (std::size_t i = 0; i < mesh.triangles.size(); i += 3) {
+    const auto face = half_edge.add_face(handle[mesh.triangles[i]], handle[mesh.triangles[i + 1]],
+                                         handle[mesh.triangles[i + 2]]);
+    // validate_mesh accepted the mesh as manifold and consistently oriented, so this is a bug.
+    if (!face.is_valid())
+      throw std::logic_error("decimate: OpenMesh refused face " + std::to_string(i / 3) + " of a validated mesh");
+  }
+  half_edge.request_face_normals();
+  half_edge.update_face_normals();  // before ModNormalFlippingT, which otherwise logs that it does this
+  // The decimater marks collapsed elements deleted in the status it requests and releases that
+  // request when it goes; ours keeps the status alive for reading the result.
+  half_edge.request_vertex_status();
+  half_edge.request_face_status();
+
+  const bool automatic = options.target_vertices == 0;
+  std::vector<std::size_t> floor(components.vertices.size());
+  for (std::size_t c = 0; c < floor.size(); ++c)
+    floor[c] = automatic ? components.topological_floor[c] : std::min<std::size_t>(components.vertices[c], 4);
+  const std::size_t target =
+      automatic ? automatic_target(input_index.size(), options.levels, components) : options.target_vertices;
+
+  std::size_t collapses = 0;
+  if (target < input_index.size()) {
+    OpenMesh::Decimater::DecimaterT<HalfedgeMesh> decimater(half_edge);
+    ModBoundaryQuadricT<HalfedgeMesh>::Handle quadric;
+    OpenMesh::Decimater::ModNormalFlippingT<HalfedgeMesh>::Handle normal_flipping;
+    OpenMesh::Decimater::ModAspectRatioT<HalfedgeMesh>::Handle aspect_ratio;
+    ModInputNormalT<HalfedgeMesh>::Handle input_normal;
+    ModComponentFloorT<HalfedgeMesh>::Handle component_floor;
+    decimater.add(quadric);
+    decimater.add(input_normal);
+    decimater.add(normal_flipping);
+    decimater.add(aspect_ratio);
+    decimater.add(component_floor);
+    decimater.module(normal_flipping).set_max_normal_deviation(options.max_normal_deviation_degrees);
+    decimater.module(aspect_ratio).set_aspect_ratio(static_cast<float>(options.min_aspect_ratio));
+    decimater.module(component_floor).set_components(component_of_handle, floor);
+    if (!decimater.initialize()) throw std::logic_error("decimate: OpenMesh's decimater did not initialize");
+    collapses = decimater.decimate_to(target);
+  }
+
+  DecimateResult result;
+  result.collapses = collapses;
+  std::vector<std::uint32_t> base_index(half_edge.n_vertices(), kNone);
+  for (const auto v : half_edge.vertices()) {  // skips deleted vertices
+    base_index[v.idx()] = static_cast<std::uint32_t>(result.original_vertex.size());
+    result.original_vertex.push_back(input_index[v.idx()]);
+    const auto& p = half_edge.point(v);
+    result.base.positions.insert(result.base.positions.end(), {p[0], p[1], p[2]});
+  }
+  for (const auto f : half_edge.faces())
+    for (const auto v : half_edge.fv_range(f)) result.base.triangles.push_back(base_index[v.idx()]);
+  return result;
+}
+
+}  // namespace meshlift
