@@ -1,7 +1,10 @@
 // Procedural meshes for tests: nothing here is read from disk.
 #pragma once
 
+#include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -9,6 +12,17 @@
 #include "meshlift/mesh.h"
 
 namespace meshlift::test {
+
+/// The real-mesh corpus (libcgal-demo's data/meshes, fetched by scripts/corpus.sh): the directory
+/// in MESHLIFT_CORPUS. Fails the calling test with instructions when it is not set.
+inline std::filesystem::path corpus_directory() {
+  const char* corpus = std::getenv("MESHLIFT_CORPUS");
+  if (corpus == nullptr || *corpus == '\0')
+    FAIL("MESHLIFT_CORPUS is not set: point it at the directory of libcgal-demo's .off meshes "
+         "(scripts/corpus.sh prints it; set it before running cmake so ctest passes it on), "
+         "or exclude this test with the filter ~[corpus]");
+  return corpus;
+}
 
 /// Regular icosahedron on the unit sphere (12 vertices of valence 5, 20 faces).
 inline TriangleMesh icosahedron() {

@@ -7,6 +7,8 @@
 // or run test_remesh with MESHLIFT_CORPUS in the environment; exclude it with `~[corpus]`.
 #include <catch2/catch.hpp>
 
+#include "test_meshes.h"
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -87,12 +89,7 @@ OpenMeshCounts count_with_openmesh(const std::string& path) {
 }  // namespace
 
 TEST_CASE("corpus meshes: expected topology - and agreement with OpenMesh", "[corpus]") {
-  const char* corpus = std::getenv("MESHLIFT_CORPUS");
-  if (corpus == nullptr || *corpus == '\0')
-    FAIL("MESHLIFT_CORPUS is not set: point it at the directory of libcgal-demo's .off meshes "
-         "(e.g. MESHLIFT_CORPUS=/tmp/cgal/data/meshes, set before running cmake so ctest passes it on), "
-         "or exclude this test with the filter ~[corpus]");
-  const std::filesystem::path directory(corpus);
+  const std::filesystem::path directory = test::corpus_directory();
 
   // V, F and boundary loops as measured (and cross-checked below); closed genus values and the
   // boundaries of lion-head, mannequin-devil and blade as stated in the issue.

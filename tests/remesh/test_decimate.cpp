@@ -453,12 +453,7 @@ TEST_CASE("decimate: bad input and bad options", "[decimate]") {
 }
 
 TEST_CASE("decimate: corpus meshes to a few hundred vertices", "[corpus][decimate]") {
-  const char* corpus = std::getenv("MESHLIFT_CORPUS");
-  if (corpus == nullptr || *corpus == '\0')
-    FAIL("MESHLIFT_CORPUS is not set: point it at the directory of libcgal-demo's .off meshes "
-         "(e.g. MESHLIFT_CORPUS=/tmp/cgal/data/meshes, set before running cmake so ctest passes it on), "
-         "or exclude this test with the filter ~[corpus]");
-  const std::filesystem::path directory(corpus);
+  const std::filesystem::path directory = test::corpus_directory();
 
   struct Case {
     std::string name;
