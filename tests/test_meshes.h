@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "meshlift/mesh.h"
@@ -22,6 +23,14 @@ inline std::filesystem::path corpus_directory() {
          "(scripts/corpus.sh prints it; set it before running cmake so ctest passes it on), "
          "or exclude this test with the filter ~[corpus]");
   return corpus;
+}
+
+/// Path of corpus mesh `name` (e.g. "cow" for cow.off); fails the test if it is missing.
+inline std::string corpus_mesh_path(const std::string& name) {
+  const std::string path = (corpus_directory() / (name + ".off")).string();
+  INFO(path);
+  REQUIRE(std::filesystem::exists(path));
+  return path;
 }
 
 /// Regular icosahedron on the unit sphere (12 vertices of valence 5, 20 faces).

@@ -12,6 +12,7 @@
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "test_meshes.h"
+#include "test_prefixes.h"
 
 using namespace meshlift;
 
@@ -32,11 +33,7 @@ SemiRegularMesh bumpy(const TriangleMesh& base, int levels, double amplitude = 0
   return canonical_order(m);
 }
 
-double rms_error(const std::vector<double>& a, const std::vector<double>& b) {
-  double sum = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(sum / static_cast<double>(a.size() / 3));
-}
+using test::rms_error;
 
 const std::vector<WaveletOptions> kSchemes = {
     {Scheme::linear, false}, {Scheme::linear, true}, {Scheme::butterfly, false}, {Scheme::butterfly, true}, {Scheme::loop, false}};
@@ -87,29 +84,10 @@ TEST_CASE("every prefix decodes and the error falls with the bytes read", "[code
   EncodeOptions options;
   options.precision_bits = 16;
   const auto file = encode(mesh, options);
-  const StreamInfo info = inspect(file);
-  REQUIRE(info.status == Status::ok);
-  REQUIRE(info.chunks.size() >= 3);
-  const std::size_t first_useful = info.chunks[2].offset + 6;  // HEAD and BASE complete, COEF begun
-  double previous = 1e300;
-  int cuts = 0;
+  const auto errors = test::check_prefixes(file, mesh.positions, 60);
+  CHECK(errors.size() >= 50);
   std::printf("prefix decode, icosahedron L=4 (%zu bytes): bytes -> RMS error\n", file.size());
-  for (std::size_t cut = first_useful; cut <= file.size(); cut += std::max<std::size_t>(1, (file.size() - first_useful) / 60)) {
-    DecodeOptions o;
-    o.max_bytes = cut;
-    const DecodeResult r = decode(file, o);
-    INFO("cut at " << cut);
-    REQUIRE(r.status == Status::ok);
-    REQUIRE(r.mesh.positions.size() == mesh.positions.size());
-    const double error = rms_error(r.mesh.positions, mesh.positions);
-    if (cuts % 10 == 0) std::printf("  %6zu %.3e (plane %d)\n", cut, error, r.bit_plane);
-    // Non-increasing, within 5 %: the midpoint reconstruction of a half-read plane can be
-    // marginally worse than the plane above for a few coefficients.
-    CHECK(error <= previous * 1.05 + 1e-15);
-    previous = std::min(previous, error);
-    ++cuts;
-  }
-  CHECK(cuts >= 50);
+  for (std::size_t k = 0; k < errors.size(); k += 10) std::printf("  %6zu %.3e\n", errors[k].first, errors[k].second);
   // Shorter than header + base: a numbered error, no mesh.
   DecodeOptions tiny;
   tiny.max_bytes = 10;

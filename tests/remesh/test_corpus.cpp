@@ -89,7 +89,6 @@ OpenMeshCounts count_with_openmesh(const std::string& path) {
 }  // namespace
 
 TEST_CASE("corpus meshes: expected topology - and agreement with OpenMesh", "[corpus]") {
-  const std::filesystem::path directory = test::corpus_directory();
 
   // V, F and boundary loops as measured (and cross-checked below); closed genus values and the
   // boundaries of lion-head, mannequin-devil and blade as stated in the issue.
@@ -103,9 +102,7 @@ TEST_CASE("corpus meshes: expected topology - and agreement with OpenMesh", "[co
   };
   for (const Expected& e : expected) {
     DYNAMIC_SECTION(e.name) {
-      const std::string path = (directory / (e.name + ".off")).string();
-      INFO(path);
-      REQUIRE(std::filesystem::exists(path));
+      const std::string path = test::corpus_mesh_path(e.name);
       const MeshReport r = validate_mesh(read_mesh(path));
       INFO(to_text(r));
 

@@ -453,7 +453,6 @@ TEST_CASE("decimate: bad input and bad options", "[decimate]") {
 }
 
 TEST_CASE("decimate: corpus meshes to a few hundred vertices", "[corpus][decimate]") {
-  const std::filesystem::path directory = test::corpus_directory();
 
   struct Case {
     std::string name;
@@ -465,9 +464,7 @@ TEST_CASE("decimate: corpus meshes to a few hundred vertices", "[corpus][decimat
   constexpr std::size_t kTarget = 400;
   for (const Case& c : cases) {
     DYNAMIC_SECTION(c.name) {
-      const std::string path = (directory / (c.name + ".off")).string();
-      INFO(path);
-      REQUIRE(std::filesystem::exists(path));
+      const std::string path = test::corpus_mesh_path(c.name);
       const TriangleMesh input = to_triangle_mesh(read_mesh(path));
       const MeshReport input_report = validate_mesh(input);
       REQUIRE(input_report.components.at(0).genus == c.genus);
