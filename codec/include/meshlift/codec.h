@@ -71,7 +71,8 @@ class Decoder {
   explicit Decoder(DecodeOptions options = {}) : options_(options) {}
   void push(std::span<const std::uint8_t> bytes) { received_.insert(received_.end(), bytes.begin(), bytes.end()); }
   std::size_t bytes_received() const { return received_.size(); }
-  /// The mesh decoded from everything pushed so far (same as decode() of that prefix).
+  /// The mesh decoded from everything pushed so far (same as decode() of that prefix). For now
+  /// it decodes the whole prefix again on every call: cost grows with the bytes received.
   DecodeResult mesh() const { return decode(received_, options_); }
 
  private:
