@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libopenmesh-dev libcli11-dev catch2
-  libxxhash-dev
+  libxxhash-dev libembree-dev libspng-dev
   python3-matplotlib python3-numpy
   draco
 )
