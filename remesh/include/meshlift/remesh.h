@@ -1,0 +1,57 @@
+// Any triangle mesh -> semi-regular mesh (CODEC-NOTES §5): recognize subdivision connectivity
+// when the input already has it, else decimate to a base mesh, optionally fit the base by Loop
+// interpolation (seed 000), refine L times and move the refined vertices onto the input surface.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+
+#include "meshlift/mesh.h"
+#include "meshlift/semi_regular.h"
+
+namespace meshlift {
+
+/// How the base mesh is shaped before refinement.
+enum class BaseFit {
+  none,  ///< base vertices stay where decimation left them (on the input surface)
+  loop,  ///< the base's Loop limit surface passes through the decimated points (seed 000)
+};
+
+struct RemeshOptions {
+  /// Refinements of the base mesh, 0..kMaxLevels.
+  int levels = 4;
+  /// Base vertices; 0 chooses automatically (automatic_base_vertices()).
+  std::size_t base_vertices = 0;
+  BaseFit fit = BaseFit::loop;
+  /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
+  /// recovered, nothing is moved). When false the input is always remeshed.
+  bool recognize = true;
+  /// Called with a fraction in [0, 1] as work progresses (for a progress bar); may be empty.
+  std::function<void(double)> progress;
+};
+
+struct RemeshResult {
+  SemiRegularMesh mesh;
+  /// True when the input already was semi-regular and was taken over as it is.
+  bool recognized = false;
+  std::size_t base_vertices = 0;
+  /// Triangles of the result whose normal points away (> 90°) from the input surface's normal
+  /// at their closest point, and triangles of zero area: both 0 in a good remesh.
+  std::size_t flipped_triangles = 0;
+  std::size_t degenerate_triangles = 0;
+};
+
+/// The semi-regular remesh of `mesh`.
+/// \throw MeshError if the input is not a manifold, consistently oriented triangle mesh with
+///        finite coordinates (validate.h's message), or an option is out of range.
+RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options = {});
+
+/// Recovers the hierarchy of a mesh that has subdivision connectivity — a 1:4 refinement of
+/// some base mesh, L >= 1 times — with its vertices and faces in any order. The result's
+/// vertices are renumbered level by level (the finest positions are the input's, permuted) and
+/// its finest faces are the input's faces (same orientation), reordered. Returns the recovery
+/// with the most levels; nullopt when the mesh is not a refinement at all.
+std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh);
+
+}  // namespace meshlift
