@@ -3,10 +3,6 @@
 
 namespace meshlift {
 
-std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh) {
-  return recover_level_ordered(mesh);  // any-order recovery: in progress
-}
-
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   if (options.recognize) {
     if (auto recovered = recover_semi_regular(mesh)) {
