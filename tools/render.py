@@ -3,7 +3,7 @@
 
 usage:
   render.py MESH -o OUT.png [--view AZ,EL] [--size W,H] [--reference MESH] [--up x|y|z]
-                            [--wire] [--flat] [--transparent] [--supersample S]
+                            [--wire] [--flat] [--crease DEG] [--transparent] [--supersample S]
   render.py strip MESH [MESH ...] -o OUT.png [--csv STREAM.csv] [--count K] [--title T]
                             [--view AZ,EL] [--size W,H] [--up x|y|z] [--wire] [--flat] [--transparent]
 
@@ -25,6 +25,7 @@ Exit codes as the meshlift CLI: 2 bad arguments, 3 unreadable or malformed input
 cannot be written. Runs on Debian's /usr/bin/python3 with python3-numpy and python3-matplotlib.
 """
 import argparse
+import collections
 import csv
 import math
 import os
@@ -46,16 +47,34 @@ class MeshReadError(Exception):
 # Readers: each returns (positions float64 (n, 3), triangles int64 (m, 3)).
 # ---------------------------------------------------------------------------------------------
 
+class Mesh(collections.namedtuple("Mesh", "positions triangles polygon_edges")):
+    """positions (n, 3) float64; triangles (m, 3) int64; polygon_edges (m, 3) bool: whether the
+    edge opposite corner i of a triangle is an edge of the polygon it was cut from (the wireframe
+    draws those only, not the diagonals of fanned polygons)."""
+
+
+def fan(k):
+    """Corners and polygon edges of the fan (v0, v_i, v_i+1), i = 1..k-2, of a k-gon: the edge
+    opposite corner 0 is always a polygon edge, the one opposite corner 1 (v0 v_i+1) only in the
+    last triangle, the one opposite corner 2 (v0 v_i) only in the first."""
+    return [((0, i, i + 1), (True, i + 1 == k - 1, i == 1)) for i in range(1, k - 1)]
+
+
 def fan_triangles(polygons):
-    """Triangles (v0, v_i, v_i+1) of each polygon given as a list of index lists."""
-    triangles = []
+    """Triangles and polygon edges of each polygon given as a list of index lists."""
+    triangles, edges = [], []
     for polygon in polygons:
-        for i in range(1, len(polygon) - 1):
-            triangles.append((polygon[0], polygon[i], polygon[i + 1]))
-    return np.array(triangles, dtype=np.int64).reshape(-1, 3)
+        for corners, polygon_edges in fan(len(polygon)):
+            triangles.append([polygon[c] for c in corners])
+            edges.append(polygon_edges)
+    return np.array(triangles, dtype=np.int64).reshape(-1, 3), np.array(edges, dtype=bool).reshape(-1, 3)
 
 
-def check_mesh(path, positions, triangles):
+def all_edges(triangles):
+    return np.ones(triangles.shape, dtype=bool)
+
+
+def check_mesh(path, positions, triangles, edges):
     if positions.shape[0] == 0:
         raise MeshReadError("%s: the mesh has no vertices" % path)
     if triangles.size and (triangles.min() < 0 or triangles.max() >= positions.shape[0]):
@@ -63,7 +82,7 @@ def check_mesh(path, positions, triangles):
         raise MeshReadError("%s: face %d refers to a vertex outside 0..%d" % (path, bad, positions.shape[0] - 1))
     if not np.isfinite(positions).all():
         raise MeshReadError("%s: non-finite vertex coordinates" % path)
-    return positions, triangles
+    return Mesh(positions, triangles, edges)
 
 
 def read_obj(path, text):
@@ -87,7 +106,7 @@ def read_obj(path, text):
         positions = np.array(positions, dtype=np.float64).reshape(-1, 3)
     except ValueError as error:
         raise MeshReadError("%s: malformed vertex line (%s)" % (path, error))
-    return positions, fan_triangles(polygons)
+    return (positions, *fan_triangles(polygons))
 
 
 def read_off(path, text):
@@ -120,12 +139,13 @@ def read_off(path, text):
         face_words = [line.split() for line in lines[at + vertex_count:at + vertex_count + face_count]]
         if face_words and all(w[0] == "3" for w in face_words):
             triangles = np.array([w[1:4] for w in face_words], dtype=np.int64).reshape(-1, 3)
+            edges = all_edges(triangles)
         else:
             polygons = [[int(x) for x in w[1:1 + int(w[0])]] for w in face_words]
-            triangles = fan_triangles(polygons)
+            triangles, edges = fan_triangles(polygons)
     except ValueError as error:
         raise MeshReadError("%s: malformed vertex or face line (%s)" % (path, error))
-    return positions, triangles
+    return positions, triangles, edges
 
 
 PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
@@ -174,7 +194,8 @@ def read_ply(path, data):
             at = _ply_binary_element(path, data, at, order, name, count, properties, values)
     if "vertex" not in values:
         raise MeshReadError("%s: no vertex element with x, y, z" % path)
-    return values["vertex"], values.get("face", np.zeros((0, 3), dtype=np.int64))
+    triangles, edges = values.get("face", (np.zeros((0, 3), dtype=np.int64), np.zeros((0, 3), dtype=bool)))
+    return values["vertex"], triangles, edges
 
 
 def _ply_keep(name, properties, columns, polygons, values, path):
@@ -258,8 +279,10 @@ def _ply_binary_element(path, data, at, order, name, count, properties, values):
                 polygons = None
                 if face_list is not None:
                     lists = block["p%d" % face_list].astype(np.int64).reshape(count, -1)
-                    polygons = np.concatenate([lists[:, [0, k, k + 1]] for k in range(1, lists.shape[1] - 1)]) \
-                        if lists.shape[1] >= 3 else np.zeros((0, 3), dtype=np.int64)
+                    pieces = fan(lists.shape[1])
+                    polygons = (np.concatenate([lists[:, corners] for corners, _ in pieces]).reshape(-1, 3),
+                                np.concatenate([np.tile(e, (count, 1)) for _, e in pieces]).reshape(-1, 3)) \
+                        if pieces else (np.zeros((0, 3), dtype=np.int64), np.zeros((0, 3), dtype=bool))
                 _ply_keep(name, properties, None, polygons, values, path)
                 return at + dtype.itemsize * count
     polygons = []
@@ -284,7 +307,8 @@ def _ply_binary_element(path, data, at, order, name, count, properties, values):
 
 
 def read_mesh(path):
-    """(positions, triangles) of an OBJ, OFF or PLY file; MeshReadError with the reason if not."""
+    """Mesh (positions, triangles, polygon_edges) of an OBJ, OFF or PLY file; MeshReadError with
+    the reason if not."""
     extension = os.path.splitext(path)[1].lower()
     try:
         with open(path, "rb") as f:
@@ -294,14 +318,14 @@ def read_mesh(path):
     if not data.strip():
         raise MeshReadError("%s: file is empty" % path)
     if extension == ".ply":
-        positions, triangles = read_ply(path, data)
+        mesh = read_ply(path, data)
     elif extension == ".off":
-        positions, triangles = read_off(path, data.decode("latin-1"))
+        mesh = read_off(path, data.decode("latin-1"))
     elif extension == ".obj":
-        positions, triangles = read_obj(path, data.decode("latin-1"))
+        mesh = read_obj(path, data.decode("latin-1"))
     else:
         raise MeshReadError("%s: unknown mesh file extension '%s' (supported: obj, off, ply)" % (path, extension))
-    return check_mesh(path, positions, triangles)
+    return check_mesh(path, *mesh)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -466,17 +490,53 @@ def face_normals(positions, triangles):
     return np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
 
 
-def vertex_normals(positions, triangles, normals_of_faces):
-    """Area-weighted mean of the incident face normals, normalized (zero where isolated)."""
-    result = np.zeros_like(positions)
-    for axis in range(3):
-        weights = np.repeat(normals_of_faces[:, axis], 3)
-        result[:, axis] = np.bincount(triangles.ravel(), weights=weights, minlength=len(positions))
+def corner_normals(positions, triangles, normals_of_faces, crease_degrees=40.0):
+    """Normal at each triangle corner, shape (m, 3, 3): the angle-weighted mean of the unit normals
+    of the faces around the corner's vertex that are within crease_degrees of this corner's face,
+    n_c = sum over faces f at v with n_f . n_t >= cos(crease) of angle_f(v) * n_f
+    (angle weights: Thuermer and Wuethrich 1998, independent of how polygons were cut into
+    triangles; the crease angle as mesh viewers have it, so a cube stays a cube and fandisk's
+    edges stay sharp while smooth regions are smooth). Zero sums fall back to the face normal.
+    Shortcut: where every face at v is within crease/2 of the angle-weighted vertex normal, any two
+    are within the crease of each other, so every corner at v gets that vertex normal exactly; the
+    pairwise sum (valence^2 work, one pass per neighbour slot) runs at the other vertices only."""
+    m = len(triangles)
+    p = positions[triangles]
+    unit = normals_of_faces / np.maximum(np.linalg.norm(normals_of_faces, axis=1, keepdims=True), 1e-300)
+    angles = np.empty((m, 3))
+    for corner in range(3):
+        a = p[:, (corner + 1) % 3] - p[:, corner]
+        b = p[:, (corner + 2) % 3] - p[:, corner]
+        angles[:, corner] = np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), (a * b).sum(axis=1))
+    vertex_of_corner = triangles.ravel()
+    angle_of_corner = angles.ravel()
+    unit_of_corner = np.repeat(unit, 3, axis=0)
+    vertex = np.stack([np.bincount(vertex_of_corner, weights=angle_of_corner * unit_of_corner[:, axis],
+                                   minlength=len(positions)) for axis in range(3)], axis=1)
+    vertex /= np.maximum(np.linalg.norm(vertex, axis=1, keepdims=True), 1e-300)
+    result = vertex[vertex_of_corner]
+    half_crease = (unit_of_corner * result).sum(axis=1) < math.cos(math.radians(crease_degrees / 2))
+    on_crease = np.bincount(vertex_of_corner, weights=half_crease, minlength=len(positions)) > 0
+    active = np.flatnonzero(on_crease[vertex_of_corner])
+    result[active] = 0
+    # Corners grouped by vertex (CSR): the j-th corner at vertex v is by_vertex[first[v] + j].
+    by_vertex = np.argsort(vertex_of_corner, kind="stable")
+    valence = np.bincount(vertex_of_corner, minlength=len(positions))
+    first = np.cumsum(valence) - valence
+    cosine = math.cos(math.radians(crease_degrees))
+    for slot in range(int(valence[on_crease].max()) if on_crease.any() else 0):
+        active = active[valence[vertex_of_corner[active]] > slot]
+        neighbour = by_vertex[first[vertex_of_corner[active]] + slot]
+        face, own = neighbour // 3, active // 3
+        near = (unit[face] * unit[own]).sum(axis=1) >= cosine
+        result[active[near]] += angle_of_corner[neighbour[near], None] * unit[face[near]]
     length = np.linalg.norm(result, axis=1, keepdims=True)
-    return np.divide(result, length, out=np.zeros_like(result), where=length > 0)
+    result = np.where(length > 1e-300, result / np.maximum(length, 1e-300), unit_of_corner)
+    return result.reshape(m, 3, 3)
 
 
-def render(positions, triangles, camera, wire=False, flat=False, transparent=False, supersample=2):
+def render(positions, triangles, camera, wire=False, flat=False, transparent=False, supersample=2,
+           polygon_edges=None, crease_degrees=40.0):
     """RGBA image (height, width, 4) in [0, 1] of the mesh seen by camera.
 
     Shading (two-sided: a normal facing away from the eye is flipped): ambient + Lambert from a key
@@ -484,9 +544,11 @@ def render(positions, triangles, camera, wire=False, flat=False, transparent=Fal
     colour = albedo * (k_a + k_d max(0, n.l_key) + k_f max(0, n.l_fill)) + k_s max(0, n.h)^s
     (Phong 1975, Blinn 1977). Normals are per-pixel: vertex normals interpolated with
     perspective-correct barycentrics (b_i / z_i) / sum_j (b_j / z_j), or face normals with flat.
+    Edges whose faces meet at more than crease_degrees stay sharp (corner_normals).
     The wireframe overlay darkens pixels within about half a pixel of the visible triangle's edges
-    (distance to edge i = b_i * |2 area| / |edge i| in screen space). Supersampling S renders at S
-    times the size and averages S x S blocks (premultiplied alpha).
+    (distance to edge i = b_i * |2 area| / |edge i| in screen space), only edges marked in
+    polygon_edges (default: all). Supersampling S renders at S times the size and averages S x S
+    blocks (premultiplied alpha).
     """
     s = max(int(supersample), 1)
     big = camera.scaled(s)
@@ -513,10 +575,9 @@ def render(positions, triangles, camera, wire=False, flat=False, transparent=Fal
         if flat:
             normal = normals_of_faces[t]
         else:
-            normal = np.einsum("pi,pij->pj", perspective, vertex_normals(positions, triangles, normals_of_faces)[corners])
-            degenerate = np.linalg.norm(normal, axis=1) < 1e-12
-            normal[degenerate] = normals_of_faces[t[degenerate]]
-        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+            normal = np.einsum("pi,pij->pj", perspective, corner_normals(positions, triangles, normals_of_faces,
+                                                                          crease_degrees)[t])
+        normal = normal / np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
         to_eye = camera.eye - point
         to_eye /= np.maximum(np.linalg.norm(to_eye, axis=1, keepdims=True), 1e-300)
         normal *= np.where((normal * to_eye).sum(axis=1) < 0, -1.0, 1.0)[:, None]
@@ -531,7 +592,10 @@ def render(positions, triangles, camera, wire=False, flat=False, transparent=Fal
         if wire:
             lengths = np.stack([np.hypot(cu[:, k] - cu[:, j], cv[:, k] - cv[:, j])
                                 for j, k in ((1, 2), (2, 0), (0, 1))], axis=1)
-            distance = (screen * np.abs(doubled_area)[:, None] / np.maximum(lengths, 1e-12)).min(axis=1)
+            distance = screen * np.abs(doubled_area)[:, None] / np.maximum(lengths, 1e-12)
+            if polygon_edges is not None:
+                distance[~polygon_edges[t]] = np.inf
+            distance = distance.min(axis=1)
             line = np.clip(1.0 - (distance - 0.5 * (s - 1)) / s, 0, 1)  # about one output pixel wide
             colour = colour * (1 - 0.85 * line[:, None]) + WIRE_COLOUR * 0.85 * line[:, None]
         rgb[covered] = colour
@@ -594,7 +658,7 @@ def pick_meshes(paths, count):
     return [paths[i] for i in chosen]
 
 
-def caption(path, positions, triangles, stream_rows):
+def caption(path, positions, stream_rows):
     size = prefix_bytes(path)
     if size is None:
         return "%s\n%d vertices" % (os.path.basename(path), len(positions))
@@ -653,6 +717,8 @@ def add_common_options(parser, default_size):
     parser.add_argument("--up", default="y", choices=sorted(UP_AXES), help="the model's up axis (default y)")
     parser.add_argument("--wire", action="store_true", help="overlay the triangle edges (for coarse meshes)")
     parser.add_argument("--flat", action="store_true", help="face normals instead of smooth vertex normals")
+    parser.add_argument("--crease", type=float, default=40.0,
+                        help="faces meeting at more than this angle in degrees keep a sharp edge (default 40)")
     parser.add_argument("--transparent", action="store_true", help="transparent instead of white background")
     parser.add_argument("--supersample", type=int, default=2, help="antialiasing factor per axis (default 2)")
 
@@ -684,14 +750,16 @@ def main(argv):
             paths = pick_meshes(args.meshes, args.count)
             rows = read_stream_csv(args.csv) if args.csv else {}
             meshes = [read_mesh(p) for p in paths]
-            camera = make_camera(meshes[-1][0], width, height, *args.view, up_axis=args.up)
-            images = [render(p, t, camera, args.wire, args.flat, args.transparent, args.supersample) for p, t in meshes]
-            captions = [caption(path, p, t, rows) for path, (p, t) in zip(paths, meshes)]
+            camera = make_camera(meshes[-1].positions, width, height, *args.view, up_axis=args.up)
+            images = [render(m.positions, m.triangles, camera, args.wire, args.flat, args.transparent, args.supersample,
+                             m.polygon_edges, args.crease) for m in meshes]
+            captions = [caption(path, m.positions, rows) for path, m in zip(paths, meshes)]
         else:
-            positions, triangles = read_mesh(args.mesh)
-            reference = read_mesh(args.reference)[0] if args.reference else positions
+            mesh = read_mesh(args.mesh)
+            reference = read_mesh(args.reference).positions if args.reference else mesh.positions
             camera = make_camera(reference, width, height, *args.view, up_axis=args.up)
-            image = render(positions, triangles, camera, args.wire, args.flat, args.transparent, args.supersample)
+            image = render(mesh.positions, mesh.triangles, camera, args.wire, args.flat, args.transparent,
+                           args.supersample, mesh.polygon_edges, args.crease)
     except MeshReadError as error:
         print("render.py: %s" % error, file=sys.stderr)
         return EXIT_BAD_INPUT

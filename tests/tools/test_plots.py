@@ -90,12 +90,12 @@ class RasterizerTest(unittest.TestCase):
 def cube():
     positions = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.float64)
     quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    return positions, render.fan_triangles(quads)
+    return (positions, *render.fan_triangles(quads))
 
 
 class CameraTest(unittest.TestCase):
     def test_reference_fills_the_image_less_the_margin(self):
-        positions, triangles = cube()
+        positions, triangles, _ = cube()
         camera = render.make_camera(positions, 100, 80, 30, 20)
         image = render.render(positions, triangles, camera, supersample=1, transparent=True)
         rows, columns = np.nonzero(image[..., 3] > 0)
@@ -104,7 +104,7 @@ class CameraTest(unittest.TestCase):
         self.assertTrue((columns.min() <= 6 and columns.max() >= 93) or (rows.min() <= 5 and rows.max() >= 74))
 
     def test_a_series_framed_by_one_reference_keeps_its_scale(self):
-        positions, triangles = cube()
+        positions, triangles, _ = cube()
         camera = render.make_camera(positions, 64, 64, 0, 0)
         whole = render.render(positions, triangles, camera, supersample=1, transparent=True)[..., 3] > 0
         small = render.render(positions * 0.5 + 0.25, triangles, camera, supersample=1, transparent=True)[..., 3] > 0
@@ -112,18 +112,80 @@ class CameraTest(unittest.TestCase):
         self.assertGreater(small.sum(), 0.15 * whole.sum())
 
     def test_front_view_of_a_cube_shows_one_lit_face(self):
-        positions, triangles = cube()
+        positions, triangles, _ = cube()
         camera = render.make_camera(positions, 48, 48, 0, 0)
         image = render.render(positions, triangles, camera, flat=True, supersample=1)
         self.assertEqual(image.shape, (48, 48, 4))
         colours = image[..., :3].reshape(-1, 3)
         covered = (colours < 0.999).any(axis=1)
-        # Flat face seen head-on: one colour (the specular term varies a little with the view ray);
-        # smooth normals on a cube's corners (mean of three faces) shade it unevenly.
+        # Flat face seen head-on: one colour (the specular term varies a little with the view ray).
         self.assertLess(np.ptp(colours[covered], axis=0).max(), 0.1)
-        smooth = render.render(positions, triangles, camera, supersample=1)[..., :3].reshape(-1, 3)
-        self.assertGreater(np.ptp(smooth[covered], axis=0).max(), 0.2)
         self.assertGreater(covered.sum(), 0.8 * 48 * 48)
+        # Smooth normals keep edges sharper than the crease angle (40 degrees): a cube's faces meet
+        # at 90, so smooth shading is flat shading; with a crease of 100 degrees it is not.
+        smooth = render.render(positions, triangles, camera, supersample=1)
+        np.testing.assert_allclose(smooth, image, atol=1e-12)
+        rounded = render.render(positions, triangles, camera, supersample=1, crease_degrees=100)
+        self.assertGreater(np.abs(rounded - image).max(), 0.1)
+
+    def test_corner_normals_on_a_smooth_patch_are_the_angle_weighted_mean(self):
+        # A fan of 4 triangles around vertex 0 on a shallow pyramid, all within the crease angle:
+        # the apex corners get the angle-weighted mean of the four faces (by symmetry the axis);
+        # rim vertex 2 is in faces 0 and 1 only, with equal angles there: their plain mean.
+        positions = np.array([[0, 0, 0.2], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], dtype=np.float64)
+        triangles = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]])
+        faces = render.face_normals(positions, triangles)
+        normals = render.corner_normals(positions, triangles, faces)
+        np.testing.assert_allclose(normals[:, 0], np.tile([0, 0, 1.0], (4, 1)), atol=1e-12)
+        faces /= np.linalg.norm(faces, axis=1, keepdims=True)
+        expected = (faces[0] + faces[1]) / np.linalg.norm(faces[0] + faces[1])
+        np.testing.assert_allclose(normals[0, 2], expected, atol=1e-12)
+        np.testing.assert_allclose(normals[1, 1], expected, atol=1e-12)
+        # A crease of 5 degrees separates the faces (16 degrees apart): each corner keeps its face's.
+        sharp = render.corner_normals(positions, triangles, render.face_normals(positions, triangles), 5.0)
+        np.testing.assert_allclose(sharp, np.repeat(faces[:, None, :], 3, axis=1), atol=1e-12)
+
+    def test_corner_normals_match_the_pairwise_definition_on_a_rough_surface(self):
+        # A height field with random bumps: some vertices on sharp edges, some not; the shortcut
+        # (vertex normal where all faces are within half the crease) must equal the definition.
+        rng = np.random.default_rng(3)
+        grid = np.array([[x, y, 0.0] for y in range(7) for x in range(7)])
+        grid[:, 2] = rng.uniform(0, 0.6, len(grid))
+        triangles = np.array([t for y in range(6) for x in range(6) for t in
+                              ([7 * y + x, 7 * y + x + 1, 7 * y + x + 8], [7 * y + x, 7 * y + x + 8, 7 * y + x + 7])])
+        faces = render.face_normals(grid, triangles)
+        unit = faces / np.linalg.norm(faces, axis=1, keepdims=True)
+        corners = grid[triangles]
+        angle = np.empty(triangles.shape)
+        for i in range(3):
+            a, b = corners[:, (i + 1) % 3] - corners[:, i], corners[:, (i + 2) % 3] - corners[:, i]
+            angle[:, i] = np.arccos((a * b).sum(axis=1) / np.linalg.norm(a, axis=1) / np.linalg.norm(b, axis=1))
+        expected = np.zeros((len(triangles), 3, 3))
+        for t in range(len(triangles)):
+            for i in range(3):
+                for f, j in zip(*np.nonzero(triangles == triangles[t, i])):
+                    if unit[f] @ unit[t] >= math.cos(math.radians(25)):
+                        expected[t, i] += angle[f, j] * unit[f]
+        expected /= np.linalg.norm(expected, axis=2, keepdims=True)
+        normals = render.corner_normals(grid, triangles, faces, 25.0)
+        np.testing.assert_allclose(normals, expected, atol=1e-12)
+        # Both kinds occur: corners whose normal is their face's own (every other face at the vertex
+        # beyond the crease) and corners smoothed over several faces.
+        own = np.isclose((normals * unit[:, None, :]).sum(axis=2), 1, rtol=0, atol=1e-12)
+        self.assertTrue(own.any() and not own.all())
+
+    def test_wireframe_draws_polygon_edges_only(self):
+        positions, triangles, polygon_edges = cube()
+        camera = render.make_camera(positions, 64, 64, 0, 0)
+        plain = render.render(positions, triangles, camera, flat=True, supersample=1)
+        edges = render.render(positions, triangles, camera, wire=True, flat=True, supersample=1,
+                              polygon_edges=polygon_edges)
+        every = render.render(positions, triangles, camera, wire=True, flat=True, supersample=1)
+        diagonal = np.diag(np.arange(64))  # the front quad's diagonal runs corner to corner
+        darker = lambda image: (image[..., :3].sum(axis=2) < plain[..., :3].sum(axis=2) - 0.3)
+        self.assertGreater(darker(every)[diagonal > 0].sum() + darker(every)[np.fliplr(diagonal) > 0].sum(), 40)
+        self.assertEqual(darker(edges)[10:54, 10:54].sum(), 0)  # no diagonal inside the face
+        self.assertGreater(darker(edges).sum(), 100)  # the square's outline
 
 
 class ReaderTest(unittest.TestCase):
@@ -143,10 +205,14 @@ class ReaderTest(unittest.TestCase):
     POSITIONS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 2]], dtype=np.float64)
     TRIANGLES = np.array([[0, 1, 2], [0, 2, 3], [0, 1, 4]])
 
+    # The quad's diagonal (0, 2) is opposite corner 1 of (0, 1, 2) and corner 2 of (0, 2, 3).
+    POLYGON_EDGES = np.array([[True, False, True], [True, True, False], [True, True, True]])
+
     def check(self, path):
-        positions, triangles = render.read_mesh(path)
-        np.testing.assert_array_equal(positions, self.POSITIONS)
-        np.testing.assert_array_equal(triangles, self.TRIANGLES)
+        mesh = render.read_mesh(path)
+        np.testing.assert_array_equal(mesh.positions, self.POSITIONS)
+        np.testing.assert_array_equal(mesh.triangles, self.TRIANGLES)
+        np.testing.assert_array_equal(mesh.polygon_edges, self.POLYGON_EDGES)
 
     def test_obj_with_slashes_negative_indices_and_a_quad(self):
         self.check(self.write("a.obj", "# comment\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\n"
@@ -157,7 +223,7 @@ class ReaderTest(unittest.TestCase):
                                        "4 0 1 2 3 255 0 0\n3 0 1 4\n"))
 
     def test_off_with_triangles_only(self):
-        positions, triangles = render.read_mesh(self.write("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 2 1 0\n"))
+        positions, triangles, _ = render.read_mesh(self.write("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 2 1 0\n"))
         np.testing.assert_array_equal(triangles, [[2, 1, 0]])
         self.assertEqual(positions.shape, (3, 3))
 
@@ -186,7 +252,19 @@ class ReaderTest(unittest.TestCase):
                   "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n")
         body = self.POSITIONS.astype("<f4").tobytes()
         body += b"".join(struct.pack("<B3i", 3, *t) for t in self.TRIANGLES)
-        self.check(self.write("d.ply", header.encode() + body))
+        mesh = render.read_mesh(self.write("d.ply", header.encode() + body))
+        np.testing.assert_array_equal(mesh.positions, self.POSITIONS)
+        np.testing.assert_array_equal(mesh.triangles, self.TRIANGLES)
+        self.assertTrue(mesh.polygon_edges.all())
+
+    def test_ply_binary_quads_of_one_size_take_the_fixed_record_path(self):
+        header = ("ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n")
+        body = self.POSITIONS.astype("<f4").tobytes() + struct.pack("<B4iB4i", 4, 0, 1, 2, 3, 4, 1, 2, 3, 4)
+        mesh = render.read_mesh(self.write("q.ply", header.encode() + body))
+        # Fans grouped by position in the fan: first triangles of both quads, then the second ones.
+        np.testing.assert_array_equal(mesh.triangles, [[0, 1, 2], [1, 2, 3], [0, 2, 3], [1, 3, 4]])
+        np.testing.assert_array_equal(mesh.polygon_edges, [[True, False, True]] * 2 + [[True, True, False]] * 2)
 
     def test_bad_files_raise_with_the_reason(self):
         cases = {
@@ -221,7 +299,7 @@ class StripTest(unittest.TestCase):
 
     def test_strip_of_two_meshes_with_csv_captions(self):
         with tempfile.TemporaryDirectory() as directory:
-            positions, triangles = cube()
+            positions, triangles, _ = cube()
             paths = []
             for size, scale in ((500, 0.5), (1500, 1.0)):
                 path = os.path.join(directory, "prefix_%09d.off" % size)
@@ -234,8 +312,8 @@ class StripTest(unittest.TestCase):
             with open(stream_csv, "w") as f:
                 f.write("bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n500,500,8,3,41.25\n1500,1500,8,0,inf\n")
             rows = render.read_stream_csv(stream_csv)
-            self.assertEqual(render.caption(paths[0], positions, triangles, rows), "500 bytes\n500.00 bpv, 41.2 dB\n8 vertices")
-            self.assertEqual(render.caption(paths[1], positions, triangles, rows), "1,500 bytes\n1500.00 bpv\n8 vertices")
+            self.assertEqual(render.caption(paths[0], positions, rows), "500 bytes\n500.00 bpv, 41.2 dB\n8 vertices")
+            self.assertEqual(render.caption(paths[1], positions, rows), "1,500 bytes\n1500.00 bpv\n8 vertices")
             out = os.path.join(directory, "strip.png")
             self.assertEqual(render.main(["strip"] + paths + ["--csv", stream_csv, "--size", "60,50", "-o", out]), 0)
             import matplotlib.pyplot as plt
