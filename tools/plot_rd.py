@@ -101,7 +101,7 @@ def bd_rate(anchor, test, interval=(55.0, 75.0), names=("anchor", "test")):
     D_low, D_high: the overlap of the two curves' PSNR ranges, clipped to `interval`.
     VCEG-M33 fits the four points of each curve; with more points we fit those inside
     [D_low, D_high] plus the nearest one outside each end (so the fit spans the interval without
-    extrapolating, yet stays local), least squares, degree min(3, points - 1). Each curve needs
+    extrapolating, yet stays local), least squares, degree min(3, distinct PSNRs - 1). Each curve needs
     at least 2 points inside [D_low, D_high].
 
     Returns (bd_rate as a fraction or None, the reason when None, details: low, high and the
@@ -137,7 +137,7 @@ def bd_rate(anchor, test, interval=(55.0, 75.0), names=("anchor", "test")):
         x = np.array([p[0] for p in points[first:last + 1]])
         y = np.array([p[1] for p in points[first:last + 1]])
         # Centred PSNR keeps the Vandermonde matrix well conditioned; the integral is unchanged.
-        polynomial = np.polyint(np.polyfit(x - centre, y, min(3, len(x) - 1)))
+        polynomial = np.polyint(np.polyfit(x - centre, y, min(3, len(np.unique(x)) - 1)))
         integrals.append(np.polyval(polynomial, high - centre) - np.polyval(polynomial, low - centre))
     delta = (integrals[1] - integrals[0]) / (high - low)
     return math.exp(delta) - 1, "", details

@@ -77,6 +77,8 @@ def all_edges(triangles):
 def check_mesh(path, positions, triangles, edges):
     if positions.shape[0] == 0:
         raise MeshReadError("%s: the mesh has no vertices" % path)
+    if triangles.shape[0] == 0:
+        raise MeshReadError("%s: the mesh has no faces (%d vertices): nothing to render" % (path, positions.shape[0]))
     if triangles.size and (triangles.min() < 0 or triangles.max() >= positions.shape[0]):
         bad = int(np.flatnonzero((triangles < 0).any(axis=1) | (triangles >= positions.shape[0]).any(axis=1))[0])
         raise MeshReadError("%s: face %d refers to a vertex outside 0..%d" % (path, bad, positions.shape[0] - 1))

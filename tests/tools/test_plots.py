@@ -275,6 +275,8 @@ class ReaderTest(unittest.TestCase):
             "nan.obj": ("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "non-finite"),
             "a.stl": ("solid x\n", "extension"),
             "nothing.ply": ("ply\nformat ascii 1.0\nend_header\n", "no vertex element"),
+            "points.ply": ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                           "property float z\nend_header\n0 0 0\n", "no faces"),
         }
         for name, (content, reason) in cases.items():
             with self.subTest(name=name):
