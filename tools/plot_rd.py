@@ -158,7 +158,8 @@ def bd_table(rows, interval):
                     value, reason, details = None, "no Draco rows for this mesh", {
                         "low": float("nan"), "high": float("nan"), "anchor_points": 0, "test_points": len(points)}
                 else:
-                    value, reason, details = bd_rate(draco, points, interval, ("Draco", "meshlift %s %s" % (scheme, kind)))
+                    names = ("Draco", "meshlift %s %s" % (scheme, kind))
+                    value, reason, details = bd_rate(draco, points, interval, names)
                 table.append({"mesh": mesh, "scheme": scheme, "kind": kind, "bd_rate": value, "reason": reason,
                               **details})
     return table

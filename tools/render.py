@@ -569,7 +569,8 @@ def render(positions, triangles, camera, wire=False, flat=False, transparent=Fal
         doubled_area = (cu[:, 1] - cu[:, 0]) * (cv[:, 2] - cv[:, 0]) - (cu[:, 2] - cu[:, 0]) * (cv[:, 1] - cv[:, 0])
         screen = np.empty((len(t), 3))
         for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-            screen[:, i] = ((cu[:, k] - cu[:, j]) * (py - cv[:, j]) - (cv[:, k] - cv[:, j]) * (px - cu[:, j])) / doubled_area
+            edge = (cu[:, k] - cu[:, j]) * (py - cv[:, j]) - (cv[:, k] - cv[:, j]) * (px - cu[:, j])
+            screen[:, i] = edge / doubled_area
         perspective = screen / cz
         perspective /= perspective.sum(axis=1, keepdims=True)
         point = np.einsum("pi,pij->pj", perspective, positions[corners])
