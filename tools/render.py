@@ -5,7 +5,7 @@ usage:
   render.py MESH -o OUT.png [--view AZ,EL] [--size W,H] [--reference MESH] [--up x|y|z]
                             [--wire] [--flat] [--crease DEG] [--transparent] [--supersample S]
   render.py strip MESH [MESH ...] -o OUT.png [--csv STREAM.csv] [--count K] [--title T]
-                            [--view AZ,EL] [--size W,H] [--up x|y|z] [--wire] [--flat] [--transparent]
+                            [same options as above but --reference]
 
 Reads OBJ, OFF and PLY (ascii, binary little- and big-endian; what `meshlift decode`,
 `meshlift stream -o` and draco_decoder write); polygons are fanned into triangles.
@@ -14,7 +14,7 @@ The camera is a perspective camera (30 degree field of view) looking at the cent
 box of a reference mesh (by default the mesh itself) from direction (azimuth, elevation) in
 degrees around the up axis, at a distance where the bounding sphere fits, with the focal length
 set so the reference's projection fills the image less a 5 % margin. Meshes rendered with the
-same --reference are framed identically.
+same --reference are framed identically. Shading: see render().
 
 `strip` renders several meshes (e.g. the DIR/prefix_<bytes>.ply files of `meshlift stream
 IN.mlz --every N -o DIR`) with the camera of the last one (the one with most bytes when the names
@@ -44,7 +44,7 @@ class MeshReadError(Exception):
 
 
 # ---------------------------------------------------------------------------------------------
-# Readers: each returns (positions float64 (n, 3), triangles int64 (m, 3)).
+# Readers: each returns (positions, triangles, polygon_edges), checked into a Mesh by read_mesh.
 # ---------------------------------------------------------------------------------------------
 
 class Mesh(collections.namedtuple("Mesh", "positions triangles polygon_edges")):
@@ -719,7 +719,7 @@ def add_common_options(parser, default_size):
                         help="image width,height in pixels (default %s)" % default_size)
     parser.add_argument("--up", default="y", choices=sorted(UP_AXES), help="the model's up axis (default y)")
     parser.add_argument("--wire", action="store_true", help="overlay the triangle edges (for coarse meshes)")
-    parser.add_argument("--flat", action="store_true", help="face normals instead of smooth vertex normals")
+    parser.add_argument("--flat", action="store_true", help="face normals instead of smooth corner normals")
     parser.add_argument("--crease", type=float, default=40.0,
                         help="faces meeting at more than this angle in degrees keep a sharp edge (default 40)")
     parser.add_argument("--transparent", action="store_true", help="transparent instead of white background")
@@ -732,7 +732,7 @@ def main(argv):
     import matplotlib.pyplot as plt
     strip = bool(argv) and argv[0] == "strip"
     parser = argparse.ArgumentParser(prog="render.py strip" if strip else "render.py",
-                                     description=__doc__.split("\n")[0])
+                                     description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     if strip:
         parser.add_argument("meshes", nargs="+", help="meshes, e.g. DIR/prefix_*.ply")
         parser.add_argument("--csv", help="`meshlift stream --csv` file: bpv and PSNR for the captions")
