@@ -208,8 +208,9 @@ std::vector<std::uint8_t> encode_geometry_image_gim(const GeometryImage& image, 
 }
 
 GeometryImage decode_geometry_image_gim(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() >= 4 && std::memcmp(bytes.data(), kGimMagic, 4) != 0)
+    throw MeshIOError(".gim: bad magic (not a geometry image)");
   if (bytes.size() < kGimHeaderBytes) throw MeshIOError(".gim: truncated header");
-  if (std::memcmp(bytes.data(), kGimMagic, 4) != 0) throw MeshIOError(".gim: bad magic (not a geometry image)");
   if (const std::uint32_t version = get_u32(bytes, 4); version != kGimVersion)
     throw MeshIOError(".gim: unsupported version " + std::to_string(version));
   const std::uint32_t side = get_u32(bytes, 8), channels = get_u32(bytes, 12), width = get_u32(bytes, 16);
