@@ -235,6 +235,12 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
     v = front.seen++;
     return true;
   };
+  // Twins of gates declared boundary: no later face may run along one (the encoder declares a
+  // gate boundary only when no face lies across it), so a stream that puts one there is corrupt.
+  std::unordered_set<std::uint64_t> boundary;
+  auto crosses_boundary = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    return boundary.count(key(x, y)) || boundary.count(key(y, z)) || boundary.count(key(z, x));
+  };
   int previous = kWasOther;
   while (front.faces.size() < 3 * std::size_t{face_count}) {
     std::uint32_t a, b;
@@ -246,11 +252,13 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
         if (!(s ? fresh_vertex(corner) : named_vertex(corner))) return false;
       }
       if (corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2]) return false;
+      if (crosses_boundary(corners[0], corners[1], corners[2])) return false;
       if (!front.add_face(corners[0], corners[1], corners[2])) return false;
       continue;
     }
     if (!bit(m.boundary[previous], s)) return false;
     if (s) {
+      boundary.insert(key(b, a));
       previous = kWasOther;
       continue;
     }
@@ -272,7 +280,7 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
       previous = s ? kWasNew : kWasOther;
       if (!(s ? fresh_vertex(c) : named_vertex(c))) return false;
     }
-    if (c == a || c == b || !front.add_face(b, a, c)) return false;
+    if (c == a || c == b || crosses_boundary(b, a, c) || !front.add_face(b, a, c)) return false;
   }
   triangles = std::move(front.faces);
   return true;
