@@ -14,9 +14,12 @@
 namespace meshlift {
 namespace {
 
-/// The range coder spends at least 1/64 bit on a face only in streams no encoder writes; a base
-/// chunk claiming more faces than this bound allows is corrupt (checked before allocating).
-constexpr std::uint64_t kMaxFacesPerBaseByte = 64;
+/// Every base face costs at least one modelled decision (its gate's boundary bit, or a new
+/// component's start bits), and the cheapest decision costs -log2(kProbMax / kProbOne) =
+/// -log2(32640 / 32768) = 0.00565 bits (range_coder.h), so a byte holds at most 8 / 0.00565 =
+/// 1417 faces. A base chunk claiming more faces than this allows is corrupt (checked before
+/// allocating). (A bound of 64 refused real regular meshes, whose faces cost ~0.01 bits each.)
+constexpr std::uint64_t kMaxFacesPerBaseByte = 1420;
 
 DecodeResult failure(Status status, std::string message) {
   DecodeResult r;
@@ -82,6 +85,11 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
   if (header.base_vertices > 3 * std::uint64_t{header.base_faces})
     return failure(Status::corrupt, std::to_string(header.base_vertices) + " base vertices cannot all lie on " +
                                         std::to_string(header.base_faces) + " faces");
+  if (kDecodeBytesPerBaseFace * header.base_faces > options.limits.max_memory_bytes)
+    return failure(Status::limit_exceeded, "decoding " + std::to_string(header.base_faces) + " base faces may take " +
+                                               std::to_string(kDecodeBytesPerBaseFace * header.base_faces) +
+                                               " bytes, above the memory budget of " +
+                                               std::to_string(options.limits.max_memory_bytes));
   std::vector<std::uint32_t> triangles;
   if (!base_mesh::decode_faces(stream.base->payload, header.base_vertices, header.base_faces, triangles))
     return failure(Status::corrupt, "the base mesh connectivity does not decode");
@@ -91,10 +99,18 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
   } catch (const MeshError& e) {
     return failure(Status::corrupt, std::string("the base mesh is not a manifold mesh: ") + e.what());
   }
-  const double vertices = refined_size(base, header.levels).vertices;
+  const RefinedSize refined = refined_size(base, header.levels);
+  const double vertices = refined.vertices;
   if (vertices > static_cast<double>(options.limits.max_vertices))
     return failure(Status::limit_exceeded, "the stream refines to " + std::to_string(static_cast<std::uint64_t>(vertices)) +
                                                " vertices (limit " + std::to_string(options.limits.max_vertices) + ")");
+  // max_vertices <= 2^64 / kDecodeBytesPerVertex is not assumed: compare in double.
+  const double memory = static_cast<double>(kDecodeBytesPerVertex) * std::max(vertices, refined.faces / 2);
+  if (memory > static_cast<double>(options.limits.max_memory_bytes))
+    return failure(Status::limit_exceeded, "decoding " + std::to_string(static_cast<std::uint64_t>(vertices)) +
+                                               " vertices may take " + std::to_string(static_cast<std::uint64_t>(memory)) +
+                                               " bytes, above the memory budget of " +
+                                               std::to_string(options.limits.max_memory_bytes));
 
   try {
     const SemiRegularHierarchy h(std::move(base), header.levels);

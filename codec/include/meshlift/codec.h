@@ -35,14 +35,25 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh);
 /// coordinates, base vertices no face uses) or the precision cannot be met.
 std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOptions& options);
 
+/// What a decode may allocate, as multiples of the counts its header declares (whatever the
+/// file's size): at most kDecodeBytesPerBaseFace per declared base face while the base
+/// connectivity is decoded, then at most kDecodeBytesPerVertex per output element, max(V, F/2)
+/// for the V vertices and F faces the header's base refines to (hierarchy, stencil tables,
+/// coefficients, output mesh), on top of the input bytes themselves. The decoder checks both
+/// products against DecodeLimits::max_memory_bytes before the allocations they bound;
+/// tests/codec/test_hostile.cpp measures real decodes against them.
+inline constexpr std::uint64_t kDecodeBytesPerBaseFace = 512;
+inline constexpr std::uint64_t kDecodeBytesPerVertex = 256;
+
 /// Caller-settable caps, checked against the header before anything is allocated.
-/// Decoding a stream whose header declares V output vertices takes about 250 bytes per vertex
-/// at peak (hierarchy, stencil tables, coefficients, output), whatever the file's size: the
-/// default cap of 2^24 vertices bounds that near 4 GiB. Raise it for larger meshes.
+/// The default memory budget of 4 GiB is the default cap of 2^24 output vertices times
+/// kDecodeBytesPerVertex; raise both for larger meshes from trusted sources.
 struct DecodeLimits {
   std::uint64_t max_vertices = std::uint64_t{1} << 24;   ///< output vertices (16.8 M)
   std::uint64_t max_base_vertices = std::uint64_t{1} << 22;
   std::uint64_t max_base_faces = std::uint64_t{1} << 23;
+  /// Bytes a decode may allocate by the bounds above (kDecodeBytesPerBaseFace, kDecodeBytesPerVertex).
+  std::uint64_t max_memory_bytes = std::uint64_t{4} << 30;
 };
 
 struct DecodeOptions {
