@@ -224,7 +224,9 @@ SurfaceQuery& SurfaceQuery::operator=(SurfaceQuery&&) noexcept = default;
 
 const TriangleMesh& SurfaceQuery::mesh() const { return impl_->mesh; }
 
-SurfacePoint SurfaceQuery::closest(const std::array<double, 3>& p) const {
+SurfacePoint SurfaceQuery::closest(const std::array<double, 3>& p) const { return closest(p, kNone); }
+
+SurfacePoint SurfaceQuery::closest(const std::array<double, 3>& p, std::uint32_t hint_face) const {
   if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
     throw MeshError("closest-point query: the query point is not finite");
   QueryState state{&impl_->mesh, p, 0, {}};
@@ -251,12 +253,57 @@ SurfacePoint SurfaceQuery::closest(const std::array<double, 3>& p) const {
   query.z = static_cast<float>(p[2]);
   query.time = 0;
   query.radius = std::numeric_limits<float>::infinity();
+  if (hint_face < impl_->mesh.face_count()) {
+    // The hint is a candidate like any visited face (same tie rule), and it shrinks the radius
+    // before the traversal starts.
+    RTCPointQueryFunctionArguments args{};
+    args.query = &query;
+    args.userPtr = &state;
+    args.primID = hint_face;
+    closest_point_callback(&args);
+  }
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(impl_->scene, &query, &context, closest_point_callback, &state);
 
   state.best.distance = std::sqrt(state.best_distance2);
   return state.best;
+}
+
+SurfacePoint SurfaceQuery::first_hit(const std::array<double, 3>& origin, const std::array<double, 3>& direction,
+                                     double max_distance) const {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(origin[k]) || !std::isfinite(direction[k]))
+      throw MeshError("ray query: the ray's origin or direction is not finite");
+  const double length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
+  if (length == 0) throw MeshError("ray query: the ray's direction is zero");
+  RTCRayHit ray{};
+  ray.ray.org_x = static_cast<float>(origin[0]);
+  ray.ray.org_y = static_cast<float>(origin[1]);
+  ray.ray.org_z = static_cast<float>(origin[2]);
+  ray.ray.dir_x = static_cast<float>(direction[0] / length);
+  ray.ray.dir_y = static_cast<float>(direction[1] / length);
+  ray.ray.dir_z = static_cast<float>(direction[2] / length);
+  ray.ray.tnear = 0;
+  ray.ray.tfar = static_cast<float>(std::min(max_distance * length, 1e30));
+  ray.ray.mask = 0xFFFFFFFFu;
+  ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(impl_->scene, &context, &ray);
+  SurfacePoint hit;
+  if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.face = ray.hit.primID;
+  // Embree's (u, v) weigh corners 1 and 2.
+  const double u = ray.hit.u, v = ray.hit.v;
+  hit.barycentric = {1 - u - v, u, v};
+  const TriangleMesh& mesh = impl_->mesh;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 c = vertex(mesh, mesh.triangles[3 * std::size_t(hit.face) + i]);
+    for (int k = 0; k < 3; ++k) hit.point[k] += hit.barycentric[i] * c[k];
+  }
+  hit.distance = std::sqrt(squared_distance(origin, hit.point));
+  return hit;
 }
 
 }  // namespace meshlift

@@ -114,6 +114,11 @@ void check_against_brute_force(const TriangleMesh& mesh, int count, unsigned see
     REQUIRE(got.distance == expected.distance);
     REQUIRE(std::abs(got.distance - distance(p, got.point)) <= 1e-12);
     for (int k = 0; k < 3; ++k) REQUIRE(got.point[k] == expected.point[k]);
+    // A hint (here any face, near or far, or none) never changes the answer.
+    const std::uint32_t hint = i % 5 == 0 ? meshlift::kNone : static_cast<std::uint32_t>(rng() % mesh.face_count());
+    const SurfacePoint hinted = query.closest(p, hint);
+    REQUIRE(hinted.face == expected.face);
+    REQUIRE(hinted.distance == expected.distance);
   }
 }
 

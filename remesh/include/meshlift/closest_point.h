@@ -66,6 +66,20 @@ class SurfaceQuery {
   /// face index wins. \throw MeshError if `p` is not finite.
   SurfacePoint closest(const std::array<double, 3>& p) const;
 
+  /// The same answer as closest(p), found faster when `hint_face` is near p (e.g. the face found
+  /// for the previous of a run of nearby points): the search starts with the radius of that
+  /// face's distance instead of infinity. Any face index, or kNone, is a valid hint; the result
+  /// does not depend on it.
+  SurfacePoint closest(const std::array<double, 3>& p, std::uint32_t hint_face) const;
+
+  /// The first point where the ray origin + t·direction, 0 <= t <= max_distance, meets the
+  /// surface (either side of a face), or face = kNone if it meets none. Embree traces the ray in
+  /// float precision; the returned point is the hit's barycentric combination of the face's
+  /// double corners, and `distance` is t times |direction|. Thread-safe.
+  /// \throw MeshError if origin or direction is not finite or direction is zero.
+  SurfacePoint first_hit(const std::array<double, 3>& origin, const std::array<double, 3>& direction,
+                         double max_distance) const;
+
   /// The mesh the queries run against (the copy made at construction).
   const TriangleMesh& mesh() const;
 

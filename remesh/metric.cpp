@@ -1,0 +1,191 @@
+// Metro-style symmetric surface distance (Cignoni, Rocchini, Scopigno 1998; CODEC-NOTES §7):
+// area samples + vertices of each surface, exact distances to the other through SurfaceQuery.
+#include "meshlift/metric.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <thread>
+
+namespace meshlift {
+
+namespace {
+
+/// Runs body(begin, end) over [0, count) in blocks of 4096 on `threads` threads (block b goes to
+/// thread b mod threads). Bodies write per-index results only, so the outcome never depends on
+/// the thread count or the scheduling.
+template <typename Body>
+void parallel_blocks(std::size_t count, unsigned threads, const Body& body) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (count + kBlock - 1) / kBlock;
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(blocks, 1)));
+  auto worker = [&](unsigned t) {
+    for (std::size_t b = t; b < blocks; b += threads) body(b * kBlock, std::min(count, (b + 1) * kBlock));
+  };
+  if (threads <= 1) {
+    worker(0);
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(threads - 1);
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+  worker(0);
+  for (auto& thread : pool) thread.join();
+}
+
+/// SplitMix64 (Steele, Lea, Flood 2014): a counter-based generator, so sample i's numbers depend
+/// only on (seed, i), not on which thread draws them or in what order.
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+/// Uniform in [0, 1) with 53 random bits.
+double unit(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1p-53; }
+
+std::array<double, 3> corner(const TriangleMesh& mesh, std::size_t face, int i) {
+  const std::size_t v = mesh.triangles[3 * face + i];
+  return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+}
+
+double triangle_area(const TriangleMesh& mesh, std::size_t face) {
+  const auto a = corner(mesh, face, 0), b = corner(mesh, face, 1), c = corner(mesh, face, 2);
+  const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double n[3] = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0]};
+  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+OneSidedDistance one_sided(const SampledSurface& from, const SurfaceQuery& to, unsigned threads) {
+  const std::vector<double>& points = from.points();
+  const std::size_t count = points.size() / 3;
+  std::vector<double> distances(count);
+  parallel_blocks(count, threads, [&](std::size_t begin, std::size_t end) {
+    // Consecutive samples are close together (they follow the faces' order), so each query starts
+    // from the face the previous one found; the answer does not depend on the hint.
+    std::uint32_t hint = kNone;
+    for (std::size_t i = begin; i < end; ++i) {
+      const SurfacePoint found = to.closest({points[3 * i], points[3 * i + 1], points[3 * i + 2]}, hint);
+      distances[i] = found.distance;
+      hint = found.face;
+    }
+  });
+  // Fixed-order reductions. RMS and mean are area integrals, estimated from the area samples
+  // alone (vertices are not spread by area); the maximum also looks at every vertex, where the
+  // largest deviation of two polyhedra often sits. A surface of zero area has only its vertices.
+  OneSidedDistance result;
+  result.area_samples = from.area_samples();
+  result.vertex_samples = count - from.area_samples();
+  const std::size_t averaged = result.area_samples > 0 ? result.area_samples : count;
+  double sum = 0, sum_squares = 0;
+  for (std::size_t i = 0; i < averaged; ++i) {
+    sum += distances[i];
+    sum_squares += distances[i] * distances[i];
+  }
+  for (double d : distances) result.max = std::max(result.max, d);
+  result.mean = sum / static_cast<double>(averaged);
+  result.rms = std::sqrt(sum_squares / static_cast<double>(averaged));
+  return result;
+}
+
+}  // namespace
+
+std::size_t default_sample_count(std::size_t reference_faces, std::size_t test_faces) {
+  return std::clamp<std::size_t>(10 * std::max(reference_faces, test_faces), 100'000, 1'000'000);
+}
+
+double SurfaceDistance::psnr_db() const {
+  return rms > 0 ? 20 * std::log10(diagonal / rms) : std::numeric_limits<double>::infinity();
+}
+
+SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads)
+    : query_(mesh) {
+  const TriangleMesh& m = query_.mesh();
+  const std::size_t faces = m.face_count();
+
+  // Stratified sampling by area: the cumulative areas A_0 ≤ A_1 ≤ ... ≤ A_F laid end to end,
+  // sample i at t_i = (i + u_i)/N · A_F lands in the face f with A_f ≤ t_i < A_{f+1}. Each face
+  // receives its area's share of the N samples (±1), with less clumping than N independent draws.
+  std::vector<double> cumulative(faces + 1, 0.0);
+  for (std::size_t f = 0; f < faces; ++f) cumulative[f + 1] = cumulative[f] + triangle_area(m, f);
+  const double total = cumulative[faces];
+  area_samples_ = total > 0 ? samples : 0;
+
+  std::vector<char> used(m.vertex_count(), 0);
+  for (std::uint32_t v : m.triangles) used[v] = 1;
+  std::size_t used_count = 0;
+  for (char u : used) used_count += u;
+  points_.resize(3 * (area_samples_ + used_count));
+
+  parallel_blocks(area_samples_, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      std::uint64_t state = seed ^ (0xD1B54A32D192ED03ULL * (i + 1));
+      const double t = (static_cast<double>(i) + unit(state)) / static_cast<double>(area_samples_) * total;
+      const auto it = std::upper_bound(cumulative.begin() + 1, cumulative.end(), t);
+      std::size_t f = std::min<std::size_t>(static_cast<std::size_t>(it - cumulative.begin()) - 1, faces - 1);
+      while (f > 0 && cumulative[f + 1] == cumulative[f]) --f;  // never a zero-area face
+      // Uniform point in a triangle (Osada et al. 2002): r1 = sqrt(u1), weights
+      // (1 − r1, r1(1 − u2), r1·u2).
+      const double r1 = std::sqrt(unit(state)), u2 = unit(state);
+      const double wa = 1 - r1, wb = r1 * (1 - u2), wc = r1 * u2;
+      const auto a = corner(m, f, 0), b = corner(m, f, 1), c = corner(m, f, 2);
+      for (int k = 0; k < 3; ++k) points_[3 * i + k] = wa * a[k] + wb * b[k] + wc * c[k];
+    }
+  });
+
+  double low[3], high[3];
+  for (int k = 0; k < 3; ++k) low[k] = std::numeric_limits<double>::infinity(), high[k] = -low[k];
+  std::size_t next = area_samples_;
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const double x = m.positions[3 * v + k];
+      points_[3 * next + k] = x;
+      low[k] = std::min(low[k], x);
+      high[k] = std::max(high[k], x);
+    }
+    ++next;
+  }
+  diagonal_ = std::sqrt((high[0] - low[0]) * (high[0] - low[0]) + (high[1] - low[1]) * (high[1] - low[1]) +
+                        (high[2] - low[2]) * (high[2] - low[2]));
+}
+
+SurfaceDistance surface_distance(const SampledSurface& reference, const SampledSurface& test, unsigned threads) {
+  SurfaceDistance result;
+  result.reference_to_test = one_sided(reference, test.query(), threads);
+  result.test_to_reference = one_sided(test, reference.query(), threads);
+  result.rms = std::max(result.reference_to_test.rms, result.test_to_reference.rms);
+  result.mean = std::max(result.reference_to_test.mean, result.test_to_reference.mean);
+  result.hausdorff = std::max(result.reference_to_test.max, result.test_to_reference.max);
+  result.diagonal = reference.diagonal();
+  const double small = std::min(reference.diagonal(), test.diagonal());
+  const double large = std::max(reference.diagonal(), test.diagonal());
+  if (large > 100 * small) {
+    result.warning = "the bounding-box diagonals differ by more than 100x (reference " +
+                     std::to_string(reference.diagonal()) + ", test " + std::to_string(test.diagonal()) +
+                     "): different units or the wrong file?";
+  }
+  return result;
+}
+
+SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMesh& test, const MetricOptions& options) {
+  if (reference.face_count() == 0) throw MeshError("reference mesh has no faces");
+  if (test.face_count() == 0) throw MeshError("test mesh has no faces");
+  const std::size_t samples =
+      options.samples > 0 ? options.samples : default_sample_count(reference.face_count(), test.face_count());
+  auto prepare = [&](const TriangleMesh& mesh, const char* which, std::uint64_t seed) {
+    try {
+      return SampledSurface(mesh, samples, seed, options.threads);
+    } catch (const MeshError& e) {
+      throw MeshError(std::string(which) + " mesh: " + e.what());
+    }
+  };
+  // Different seeds for the two surfaces, so identical meshes are not sampled at identical points.
+  const SampledSurface reference_surface = prepare(reference, "reference", options.seed);
+  const SampledSurface test_surface = prepare(test, "test", options.seed ^ 0x5555555555555555ULL);
+  return surface_distance(reference_surface, test_surface, options.threads);
+}
+
+}  // namespace meshlift
