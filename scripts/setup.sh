@@ -11,6 +11,10 @@ packages=(
   draco
 )
 
+# `setup.sh --fuzz` (scripts/fuzz.sh): also clang and its libFuzzer/sanitizer runtimes.
+fuzz_packages() { packages+=(clang libclang-rt-dev); }
+[ "${1:-}" = "--fuzz" ] && fuzz_packages
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
