@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   register_decode(app, exit_code);
   register_truncate(app, exit_code);
   register_stream(app, exit_code);
+  register_compare(app, exit_code);
   register_gim(app, exit_code);
   try {
     app.parse(argc, argv);
