@@ -1,6 +1,10 @@
 // Spherical parametrization and geometry-image remeshing figures: for each mesh file given,
-// the parametrization's time, peak memory, stretch and bijectivity check, then the sampling time
-// for each image size.  Usage: bench_sphere MESH... [--sizes 65,129,257]
+// the parametrization's time, peak memory, stretch and bijectivity check, then for each image
+// size the sampling time and the remesh's distance to the original by the Metro-style surface
+// metric (metric.h: area samples and vertices of both surfaces, exact distances both ways,
+// symmetric RMS = the larger direction, PSNR = 20·log10(bbox diagonal of the original / RMS),
+// Hausdorff relative to the diagonal; CODEC-NOTES §7).
+// Usage: bench_sphere MESH... [--sizes 65,129,257]   (one mesh per run for its own peak memory)
 #include <sys/resource.h>
 
 #include <chrono>
@@ -12,6 +16,7 @@
 
 #include "meshlift/geometry_image.h"
 #include "meshlift/mesh_io.h"
+#include "meshlift/metric.h"
 #include "meshlift/spherical_parametrization.h"
 
 namespace {
@@ -58,9 +63,15 @@ int main(int argc, char** argv) {
       const auto sample_start = std::chrono::steady_clock::now();
       const meshlift::SemiRegularMesh remesh =
           meshlift::sample_sphere_remesh(mesh, p.sphere, meshlift::geometry_image_levels(n));
-      std::printf("  n = %d: %u vertices, sampled in %.3f s\n", n,
-                  remesh.hierarchy.vertex_count(remesh.hierarchy.levels()), seconds_since(sample_start));
+      const double sample_seconds = seconds_since(sample_start);
+      const meshlift::SurfaceDistance d = meshlift::surface_distance(mesh, remesh.finest());
+      std::printf("  n = %d: %u vertices, sampled in %.3f s; RMS original->remesh %.3e, remesh->original %.3e "
+                  "(x diagonal), Hausdorff %.3e; PSNR %.2f dB\n",
+                  n, remesh.hierarchy.vertex_count(remesh.hierarchy.levels()), sample_seconds,
+                  d.reference_to_test.rms / d.diagonal, d.test_to_reference.rms / d.diagonal, d.hausdorff_relative(),
+                  d.psnr_db());
     }
+    std::printf("  peak RSS after sampling and measuring: %.1f MB\n", peak_megabytes());
     std::fflush(stdout);
   }
   return 0;
