@@ -37,6 +37,7 @@ struct RdOptions {
   std::vector<double> bpv{0.25, 0.5, 1, 2, 4, 8};
   int levels = 4;
   std::size_t base_vertices = 0;
+  int bits = 16;
   bool separate = false;
   std::vector<int> draco_qp{6, 8, 10, 12, 14, 16};
   std::string output_dir;
@@ -174,6 +175,35 @@ std::string first_line_of(const std::string& path) {
   return last_break == std::string::npos ? text : text.substr(last_break + 1);
 }
 
+/// Binary little-endian PLY of a triangle mesh for draco_encoder: float32 coordinates (exact: the
+/// mesh readers parse coordinates as float32) and uchar/int face lists. Written here rather than by
+/// save_mesh() because OpenMesh's writer refuses non-manifold meshes, which Draco accepts.
+bool write_ply_for_draco(const std::string& path, const TriangleMesh& mesh, std::string& error) {
+  std::ostringstream header;
+  header << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.vertex_count()
+         << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.face_count()
+         << "\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string text = header.str();
+  std::vector<std::uint8_t> bytes(text.begin(), text.end());
+  auto put = [&](const void* data, std::size_t size) {
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    bytes.insert(bytes.end(), p, p + size);  // x86-64 and aarch64 Linux are little-endian
+  };
+  for (double x : mesh.positions) {
+    const float f = static_cast<float>(x);
+    put(&f, sizeof f);
+  }
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const std::uint8_t corners = 3;
+    put(&corners, 1);
+    for (int i = 0; i < 3; ++i) {
+      const std::int32_t v = static_cast<std::int32_t>(mesh.triangles[3 * f + i]);
+      put(&v, sizeof v);
+    }
+  }
+  return write_bytes(path, bytes, error);
+}
+
 /// Progress on stderr, only when it is a terminal; one line rewritten in place.
 class Progress {
  public:
@@ -216,6 +246,11 @@ Row failed(Row row, const std::string& message) {
   row.peak_rss_mb = NAN;
   row.error = message;
   return row;
+}
+
+/// `message` led by `prefix` unless it already starts with it.
+std::string with_prefix(const std::string& prefix, const std::string& message) {
+  return message.rfind(prefix, 0) == 0 ? message : prefix + message;
 }
 
 std::string param_text(double x) { return format_number(x, "%g"); }
@@ -327,7 +362,7 @@ class Sweep {
     }
     if (draco)
       for (int qp : options_.draco_qp)
-        if (!draco_row(reference, base, *loaded, qp)) return false;
+        if (!draco_row(reference, base, qp)) return false;
     return true;
   }
 
@@ -336,6 +371,7 @@ class Sweep {
     row.scheme = scheme;
     EncodeOptions encode_options;
     encode_options.scheme = parse_scheme(scheme);
+    encode_options.precision_bits = options_.bits;
 
     // One encode at the highest rate; prefixes of it at each budget.
     std::vector<std::uint8_t> file;
@@ -346,7 +382,7 @@ class Sweep {
       file = encode(mesh, encode_options);
       encode_s = seconds_since(t0);
     } catch (const std::exception& e) {
-      encode_error = std::string("encode: ") + e.what();
+      encode_error = with_prefix("encode: ", e.what());
     }
     row.kind = "prefix";
     for (double bpv : options_.bpv) {
@@ -377,7 +413,7 @@ class Sweep {
         separate = encode(mesh, budget);
         seconds = seconds_since(t0);
       } catch (const std::exception& e) {
-        if (!add(failed(row, std::string("encode: ") + e.what()))) return false;
+        if (!add(failed(row, with_prefix("encode: ", e.what())))) return false;
         continue;
       }
       if (!add(decoded_row(reference, row, separate, {}, seconds, separate.size()))) return false;
@@ -410,7 +446,7 @@ class Sweep {
     return row;
   }
 
-  bool draco_row(const Reference& reference, const Row& base, const PolygonMesh& mesh, int qp) {
+  bool draco_row(const Reference& reference, const Row& base, int qp) {
     Row row = base;
     row.codec = "draco";
     row.kind = "draco";
@@ -420,8 +456,9 @@ class Sweep {
     fs::create_directories(scratch_dir(), ec);
     const std::string stem = (scratch_dir() / (reference.name + "_qp" + row.param)).string();
     const std::string in_ply = (scratch_dir() / (reference.name + ".ply")).string();
-    if (!fs::exists(in_ply) && !save_mesh(in_ply, mesh, true))
-      return add(failed(row, "cannot write " + in_ply + " for draco_encoder"));
+    std::string write_error;
+    if (!fs::exists(in_ply) && !write_ply_for_draco(in_ply, reference.mesh, write_error))
+      return add(failed(row, "cannot write the input for draco_encoder: " + write_error));
     const std::string drc = stem + ".drc", out_ply = stem + "_decoded.ply", log = stem + ".log";
 
     auto t0 = std::chrono::steady_clock::now();
@@ -475,6 +512,10 @@ void register_rd(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--levels", options->levels, "Refinement levels of the remesh")->check(CLI::Range(0, 12))->capture_default_str();
   cmd->add_option("--base-vertices", options->base_vertices, "Base mesh vertices of the remesh (0: automatic)")
+      ->capture_default_str();
+  cmd->add_option("--bits", options->bits,
+                  "Finest quantization step diagonal*2^-B of the encodes (as `encode --bits`); the prefixes' "
+                  "highest rate")
       ->capture_default_str();
   cmd->add_flag("--separate", options->separate, "Also encode separately at each budget (the embedded stream's cost)");
   cmd->add_option("--draco-qp", options->draco_qp,

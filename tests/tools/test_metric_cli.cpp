@@ -239,3 +239,46 @@ TEST_CASE("rd writes a row per scheme and budget with PSNR rising along the pref
   CHECK_THAT(r.err, Catch::Contains("broken"));
   fs::remove_all(dir);
 }
+
+TEST_CASE("rd keeps going past a mesh the remesher rejects and past failed encodes", "[cli][rd]") {
+  const fs::path dir = scratch_dir("rd_errors");
+  const fs::path octahedron = write(dir / "octahedron.off", kOctahedron);
+  const fs::path fine = dir / "fine.off";
+  REQUIRE(run("subdivide " + octahedron.string() + " -o " + fine.string() + " --scheme loop --levels 3", dir).exit_code == 0);
+  // Three faces on one edge: not a manifold, so remesh() throws and the mesh gets one error row.
+  const fs::path fin = write(dir / "fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  const fs::path out = dir / "out";
+  // 40 bits is finer than the quantizer's 31-bit magnitudes allow at 3 levels: every encode
+  // throws, each of its rows says so, and the sweep goes on.
+  const Result r = run("rd " + fin.string() + " " + fine.string() +
+                           " --schemes linear,butterfly --bpv 8,16 --bits 40 --draco-qp 10 --samples 5000 -o " +
+                           out.string(),
+                       dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto rows = read_csv(out / "rd.csv");
+  std::size_t remesh_errors = 0, encode_errors = 0;
+  for (const auto& row : rows) {
+    if (row.at("codec") != "meshlift") continue;
+    if (row.at("mesh") == "fin") {
+      CHECK_THAT(row.at("error"), Catch::Contains("remesh"));
+      ++remesh_errors;
+    } else {
+      CHECK(row.at("error").rfind("encode: precision_bits 40", 0) == 0);
+      CHECK(row.at("bytes").empty());
+      CHECK(row.at("psnr_db").empty());
+      ++encode_errors;
+    }
+  }
+  CHECK(remesh_errors == 1);
+  CHECK(encode_errors == 4);  // 2 schemes x 2 budgets
+  if (std::system("command -v draco_encoder > /dev/null && command -v draco_decoder > /dev/null") == 0) {
+    // Draco is still measured on both: the non-manifold mesh and the one whose encodes failed.
+    std::size_t good_draco = 0;
+    for (const auto& row : rows)
+      if (row.at("codec") == "draco" && row.at("error").empty() && !row.at("psnr_db").empty()) ++good_draco;
+    CHECK(good_draco == 2);
+  }
+  CHECK_THAT(r.err, Catch::Contains("fin meshlift: remesh"));
+  fs::remove_all(dir);
+}
