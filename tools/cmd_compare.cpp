@@ -18,6 +18,7 @@ struct CompareOptions {
   std::string test;
   std::size_t samples = 0;
   unsigned threads = 0;
+  std::uint64_t seed = MetricOptions{}.seed;
   bool json = false;
 };
 
@@ -83,6 +84,7 @@ int run_compare(const CompareOptions& options) {
   MetricOptions metric;
   metric.samples = options.samples;
   metric.threads = options.threads;
+  metric.seed = options.seed;
   SurfaceDistance d;
   try {
     d = surface_distance(reference_triangles, test_triangles, metric);
@@ -135,6 +137,7 @@ void register_compare(CLI::App& app, int& exit_code) {
   cmd->add_option("--samples", options->samples,
                   "Area samples per surface (default 0: 10 per face of the larger mesh, within 100k..1M)");
   cmd->add_option("--threads", options->threads, "Worker threads (default 0: all cores; results do not depend on it)");
+  cmd->add_option("--seed", options->seed, "Seed of the sample positions (default: the metric's fixed seed)");
   cmd->add_flag("--json", options->json, "Print the figures as JSON");
   cmd->callback([options, &exit_code] { exit_code = run_compare(*options); });
 }
