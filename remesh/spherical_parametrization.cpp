@@ -194,7 +194,8 @@ std::vector<Collapse> simplify_to_tetrahedron(const TriangleMesh& mesh, std::vec
 /// Steps 2-3 state: the mesh being refined, surface (q) and sphere (p) positions per vertex.
 class Refiner {
  public:
-  Refiner(const TriangleMesh& mesh, std::vector<Vec>& sphere) : sphere_(sphere) {
+  Refiner(const TriangleMesh& mesh, std::vector<Vec>& sphere, int line_searches)
+      : sphere_(sphere), line_searches_(std::max(1, line_searches)) {
     surface_.resize(mesh.vertex_count());
     for (std::size_t v = 0; v < surface_.size(); ++v)
       surface_[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
@@ -241,8 +242,11 @@ class Refiner {
     for (const int w : neighbours) optimize(w);
   }
 
+  /// Every present vertex: up to line_searches moves while each lowers its energy by 1e-4 or more.
   void sweep() {
-    for (const int v : present_) optimize(v);
+    for (const int v : present_)
+      for (int k = 0; k < line_searches_ && optimize(v); ++k) {
+      }
   }
   std::size_t present() const { return present_.size(); }
 
@@ -373,9 +377,9 @@ class Refiner {
 
   /// One guarded line search for vertex v along the negative stretch gradient on the sphere
   /// (central differences in a tangent frame); moves only to a valid position of lower energy.
-  void optimize(int v) {
+  bool optimize(int v) {
     gather(v);
-    if (ring_.empty()) return;
+    if (ring_.empty()) return false;
     const Vec p = sphere_[v];
     const double e0 = energy_at(v, p);
     double shortest = std::numeric_limits<double>::infinity(), mean = 0;
@@ -401,11 +405,11 @@ class Refiner {
       else if (std::isfinite(minus))
         g[k] = (e0 - minus) / h;
       else
-        return;
+        return false;
     }
     Vec direction = add(scale(t1, -g[0]), scale(t2, -g[1]));
     const double length = norm(direction);
-    if (!(length > 0)) return;
+    if (!(length > 0)) return false;
     direction = scale(direction, 1.0 / length);
     double step = 0.5 * mean, best = e0;
     Vec best_p = p;
@@ -428,6 +432,7 @@ class Refiner {
       }
     }
     sphere_[v] = best_p;
+    return best < e0 * (1 - 1e-4) || (!std::isfinite(e0) && std::isfinite(best));
   }
 
   HalfedgeMesh mesh_;
@@ -436,6 +441,7 @@ class Refiner {
   std::vector<int> present_;
   std::vector<std::pair<int, int>> ring_;
   double area_floor_ = 0;
+  int line_searches_ = 1;
 };
 
 /// Signed solid angle of spherical triangle abc (Van Oosterom & Strackee 1983):
@@ -528,7 +534,7 @@ SphericalParametrization parametrize_sphere(const TriangleMesh& mesh, const Sphe
   result.collapses = collapses.size();
 
   std::vector<Vec> sphere(used.vertex_count(), Vec{0, 0, 1});
-  Refiner refiner(used, sphere);
+  Refiner refiner(used, sphere, options.line_searches);
   refiner.start(base_faces);
   std::size_t last_sweep = refiner.present();
   const double total_work = static_cast<double>(collapses.size()) + 1.0;

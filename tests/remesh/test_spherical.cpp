@@ -3,6 +3,7 @@
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -255,6 +256,24 @@ TEST_CASE("geometry image of an ellipsoid lies on the ellipsoid and keeps its bo
   broken.samples[3 * 1] += 0.5;  // row 0, column 1: mirror of column n − 2
   const GeometryImage repaired = mesh_to_image(image_to_mesh(broken));
   for (int k = 0; k < 3; ++k) CHECK(repaired.samples[3 * 1 + k] == repaired.samples[3 * (image.size - 2) + k]);
+}
+
+TEST_CASE("sphere remesh is a level-ordered octahedron hierarchy that recover_level_ordered finds", "[sphere]") {
+  const SemiRegularMesh remesh = remesh_sphere(bumpy_finger(2), 3);
+  REQUIRE(remesh.positions.size() == 3 * 258);
+  const std::optional<SemiRegularMesh> recovered = recover_level_ordered(remesh.finest());
+  REQUIRE(recovered.has_value());
+  CHECK(recovered->hierarchy.levels() == 3);
+  CHECK(recovered->hierarchy.triangles(0) == octahedron().triangles);
+  CHECK(recovered->positions == remesh.positions);
+  // Nested sampling: a coarser remesh from the same parametrization is the prefix of the finer
+  // one (level j's vertices are the same octahedron points at every L >= j).
+  const TriangleMesh finger = bumpy_finger(2);
+  const SphericalParametrization p = parametrize_sphere(finger);
+  const SemiRegularMesh coarse = sample_sphere_remesh(finger, p.sphere, 1);
+  const SemiRegularMesh fine = sample_sphere_remesh(finger, p.sphere, 3);
+  REQUIRE(coarse.positions.size() == 3 * 18);
+  CHECK(std::equal(coarse.positions.begin(), coarse.positions.end(), fine.positions.begin()));
 }
 
 TEST_CASE("mesh_to_image refuses a mesh whose base is not the octahedron", "[sphere]") {

@@ -29,6 +29,9 @@ struct SphericalParametrizationOptions {
   double sweep_growth = 1.25;
   /// Sweeps over all vertices once every vertex is back.
   int final_sweeps = 6;
+  /// Line searches per vertex and sweep (fewer when a search lowers the vertex's stretch by less
+  /// than 1e-4 of it).
+  int line_searches = 1;
   /// Called with a fraction in [0, 1] as work progresses; may be empty.
   std::function<void(double)> progress;
 };
