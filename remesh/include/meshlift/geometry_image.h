@@ -48,6 +48,9 @@ int geometry_image_levels(int size);
 /// The octahedron base mesh described above (unit vertices).
 TriangleMesh octahedron();
 
+/// The sphere point of octahedron point o (|x| + |y| + |z| = 1): the central projection o / |o|.
+std::array<double, 3> octahedron_to_sphere(const std::array<double, 3>& o);
+
 /// The octahedron point of pixel (row, column) of an n × n image (exact: dyadic coordinates).
 std::array<double, 3> octahedron_point(int row, int column, int size);
 /// The pixel an octahedron point unfolds to, (row, column), by the forward rule above (for a
