@@ -202,13 +202,14 @@ void WaveletTransform::analyze(std::span<double> values, int channels) const {
   }
 }
 
-void WaveletTransform::synthesize(std::span<double> values, int channels, int to_level) const {
+void WaveletTransform::synthesize(std::span<double> values, int channels, int to_level, int from_level) const {
   check_channels(channels);
   if (to_level < 0) to_level = levels();
   if (to_level > levels()) throw std::invalid_argument("synthesize: to_level exceeds the hierarchy's levels");
+  if (from_level < 0 || from_level > to_level) throw std::invalid_argument("synthesize: from_level must be in 0..to_level");
   if (values.size() < static_cast<std::size_t>(vertex_counts_[to_level]) * channels)
     throw std::invalid_argument("synthesize: values hold fewer vertices than the requested level");
-  for (int j = 0; j < to_level; ++j)
+  for (int j = from_level; j < to_level; ++j)
     for (const LiftingStep& step : steps_[j]) {
       if (channels == 3)
         step_synthesis<3>(step, values.data(), 3);

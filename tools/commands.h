@@ -27,6 +27,7 @@ void register_truncate(CLI::App& app, int& exit_code);
 void register_stream(CLI::App& app, int& exit_code);
 void register_compare(CLI::App& app, int& exit_code);
 void register_rd(CLI::App& app, int& exit_code);
+void register_remesh(CLI::App& app, int& exit_code);
 void register_gim(CLI::App& app, int& exit_code);
 
 /// Refuses (returns false and prints why) when `output` names the same file as `input`.

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   register_stream(app, exit_code);
   register_compare(app, exit_code);
   register_rd(app, exit_code);
+  register_remesh(app, exit_code);
   register_gim(app, exit_code);
   try {
     app.parse(argc, argv);

@@ -70,7 +70,9 @@ class WaveletTransform {
   void analyze(std::span<double> values, int channels = 3) const;
   /// Base values + details -> values of the mesh at `to_level` (in the first
   /// vertex_count(to_level) vertices); in place. to_level = -1 means the finest level.
-  void synthesize(std::span<double> values, int channels = 3, int to_level = -1) const;
+  /// from_level > 0 starts from values that already are those of the mesh at from_level (the
+  /// first vertex_count(from_level) vertices) and runs only the levels from there.
+  void synthesize(std::span<double> values, int channels = 3, int to_level = -1, int from_level = 0) const;
 
   int levels() const { return static_cast<int>(steps_.size()); }
   const WaveletOptions& options() const { return options_; }

@@ -21,11 +21,13 @@ enum class BaseFit {
 struct RemeshOptions {
   /// Refinements of the base mesh, 0..kMaxLevels.
   int levels = 4;
-  /// Base vertices; 0 chooses automatically (automatic_base_vertices()).
+  /// Base vertices; 0 chooses automatic_remesh_base().
   std::size_t base_vertices = 0;
   BaseFit fit = BaseFit::loop;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
-  /// recovered, nothing is moved). When false the input is always remeshed.
+  /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
+  /// (the corpus's camel is one) leaves too coarse a base for the wavelets, so such a mesh is
+  /// remeshed. When false the input is always remeshed.
   bool recognize = true;
   /// Called with a fraction in [0, 1] as work progresses (for a progress bar); may be empty.
   std::function<void(double)> progress;
@@ -41,6 +43,11 @@ struct RemeshResult {
   std::size_t flipped_triangles = 0;
   std::size_t degenerate_triangles = 0;
 };
+
+/// The base size remesh() chooses: about 4x the input's vertices after `levels` refinements,
+/// max(ceil(4 V / 4^levels), automatic_base_vertices(mesh, levels)) (decimate.h).
+/// \throw MeshError as decimate().
+std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels);
 
 /// The semi-regular remesh of `mesh`.
 /// \throw MeshError if the input is not a manifold, consistently oriented triangle mesh with

@@ -1,0 +1,318 @@
+// Fitting a refined base mesh to the input surface. See surface_fit.h.
+//
+// Level j+1's new (odd) vertices start at their guide positions and are projected on the input
+// surface (closest point). Then, a few rounds of: move each new vertex by a fraction of the
+// tangential part of its umbrella vector (the mean of its neighbours minus itself, less its
+// component along the vertex normal: it evens out the sampling without leaving the surface
+// much), and project again. Boundary vertices move along the boundary only (the mean of their
+// two boundary neighbours) and are projected on the input's boundary curves, so the remesh's
+// boundary follows the input's. Rounds are Jacobi updates (all new positions from the old ones),
+// so the result does not depend on the thread count. This is the closest-point-plus-smoothing
+// fitting of MPEG V-DMC's test model (CODEC-NOTES §8), run coarse to fine as normal meshes do.
+#include "meshlift/surface_fit.h"
+
+#include "meshlift/lifting.h"
+
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace meshlift {
+namespace {
+
+using Vec = std::array<double, 3>;
+
+Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec cross(const Vec& a, const Vec& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec at(std::span<const double> x, std::uint32_t v) { return {x[3 * v], x[3 * v + 1], x[3 * v + 2]}; }
+
+/// Runs body(begin, end) over [0, n) split into `threads` contiguous ranges.
+template <typename Body>
+void parallel_for(std::size_t n, unsigned threads, Body body) {
+  if (threads <= 1 || n < 1024) {
+    body(std::size_t{0}, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] { body(n * t / threads, n * (t + 1) / threads); });
+  for (auto& th : pool) th.join();
+}
+
+/// Vertex -> neighbours and vertex -> incident faces of a triangle list (CSR), plus which
+/// neighbours are across a boundary edge.
+struct Adjacency {
+  std::vector<std::uint32_t> face_offsets, faces;
+  std::vector<std::uint32_t> neighbour_offsets, neighbours;
+  std::vector<std::uint32_t> boundary_neighbour_offsets, boundary_neighbours;
+
+  Adjacency(std::uint32_t vertices, const std::vector<std::uint32_t>& triangles) {
+    face_offsets.assign(vertices + 1, 0);
+    for (std::uint32_t v : triangles) ++face_offsets[v + 1];
+    for (std::uint32_t v = 0; v < vertices; ++v) face_offsets[v + 1] += face_offsets[v];
+    faces.resize(triangles.size());
+    std::vector<std::uint32_t> fill(face_offsets.begin(), face_offsets.end() - 1);
+    for (std::size_t f = 0; f < triangles.size() / 3; ++f)
+      for (int i = 0; i < 3; ++i) faces[fill[triangles[3 * f + i]]++] = static_cast<std::uint32_t>(f);
+    // Neighbours: every face around v names two of them; a neighbour named by one face only is
+    // across a boundary edge.
+    neighbour_offsets.assign(vertices + 1, 0);
+    boundary_neighbour_offsets.assign(vertices + 1, 0);
+    std::vector<std::uint32_t> ring;
+    for (std::uint32_t v = 0; v < vertices; ++v) {
+      ring.clear();
+      for (std::uint32_t k = face_offsets[v]; k < face_offsets[v + 1]; ++k) {
+        const std::uint32_t f = faces[k];
+        int i = 0;
+        while (triangles[3 * f + i] != v) ++i;
+        const std::uint32_t next = triangles[3 * f + (i + 1) % 3], prev = triangles[3 * f + (i + 2) % 3];
+        ring.push_back(next), ring.push_back(prev);
+      }
+      std::sort(ring.begin(), ring.end());
+      for (std::size_t k = 0; k < ring.size(); ++k) {
+        if (k > 0 && ring[k] == ring[k - 1]) continue;
+        neighbours.push_back(ring[k]);
+        if (k + 1 == ring.size() || ring[k + 1] != ring[k]) boundary_neighbours.push_back(ring[k]);  // in one face only
+      }
+      neighbour_offsets[v + 1] = static_cast<std::uint32_t>(neighbours.size());
+      boundary_neighbour_offsets[v + 1] = static_cast<std::uint32_t>(boundary_neighbours.size());
+    }
+  }
+  bool on_boundary(std::uint32_t v) const { return boundary_neighbour_offsets[v + 1] > boundary_neighbour_offsets[v]; }
+};
+
+/// Closest points on the input's boundary edges (brute force: boundaries are short).
+struct BoundaryCurves {
+  std::vector<std::array<Vec, 2>> segments;
+
+  explicit BoundaryCurves(const TriangleMesh& mesh) {
+    const Adjacency adjacency(static_cast<std::uint32_t>(mesh.vertex_count()), mesh.triangles);
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+      for (std::uint32_t k = adjacency.boundary_neighbour_offsets[v]; k < adjacency.boundary_neighbour_offsets[v + 1]; ++k)
+        if (adjacency.boundary_neighbours[k] > v)
+          segments.push_back({at(mesh.positions, v), at(mesh.positions, adjacency.boundary_neighbours[k])});
+  }
+  Vec closest(const Vec& p) const {
+    Vec best = p;
+    double best_d = INFINITY;
+    for (const auto& [a, b] : segments) {
+      const Vec ab = sub(b, a);
+      const double len2 = dot(ab, ab);
+      const double t = len2 > 0 ? std::clamp(dot(sub(p, a), ab) / len2, 0.0, 1.0) : 0.0;
+      const Vec q{a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
+      const Vec d = sub(p, q);
+      if (dot(d, d) < best_d) best_d = dot(d, d), best = q;
+    }
+    return best;
+  }
+};
+
+/// Area-weighted vertex normal (not normalized) of v in the current positions.
+Vec vertex_normal(const Adjacency& adjacency, const std::vector<std::uint32_t>& triangles, std::span<const double> x,
+                  std::uint32_t v) {
+  Vec n{0, 0, 0};
+  for (std::uint32_t k = adjacency.face_offsets[v]; k < adjacency.face_offsets[v + 1]; ++k) {
+    const std::uint32_t f = adjacency.faces[k];
+    const Vec a = at(x, triangles[3 * f]), b = at(x, triangles[3 * f + 1]), c = at(x, triangles[3 * f + 2]);
+    const Vec fn = cross(sub(b, a), sub(c, a));
+    for (int i = 0; i < 3; ++i) n[i] += fn[i];
+  }
+  return n;
+}
+
+/// Normal shooting (as normal meshes place their vertices): the nearer of the first hits of the
+/// rays from p along n and along -n, within `reach`, if it is on a face that faces the way n
+/// does; face = kNone otherwise. Unlike the closest point, nearby points with similar normals
+/// land on nearby, equally ordered points, also across the input's convex edges (where closest
+/// points pile up on the edge and fold the triangles between them).
+SurfacePoint shoot(const SurfaceQuery& surface, const Vec& p, const Vec& n, double reach) {
+  const TriangleMesh& input = surface.mesh();
+  SurfacePoint best;
+  for (double sign : {1.0, -1.0}) {
+    const SurfacePoint hit = surface.first_hit(p, {sign * n[0], sign * n[1], sign * n[2]}, reach);
+    if (hit.face != kNone && (best.face == kNone || hit.distance < best.distance)) best = hit;
+  }
+  if (best.face == kNone) return best;
+  const std::uint32_t* t = &input.triangles[3 * std::size_t{best.face}];
+  const Vec a = at(input.positions, t[0]);
+  if (dot(cross(sub(at(input.positions, t[1]), a), sub(at(input.positions, t[2]), a)), n) <= 0) return SurfacePoint{};
+  return best;
+}
+
+}  // namespace
+
+void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const SurfaceQuery& surface,
+                    const SurfaceFitOptions& options) {
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  const int levels = h.levels();
+  const std::size_t total = h.vertex_count(levels);
+  if (guide.size() != 3 * total) throw std::invalid_argument("fit_to_surface: guide must hold one xyz per vertex");
+  if (options.relax_iterations < 0 || !(options.relax_step > 0 && options.relax_step <= 1))
+    throw std::invalid_argument("fit_to_surface: relax_iterations >= 0 and relax_step in (0, 1]");
+  const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const BoundaryCurves boundary(surface.mesh());
+  const TriangleMesh& input = surface.mesh();
+
+  mesh.positions.assign(guide.begin(), guide.end());
+  std::span<double> x(mesh.positions);
+  // The input face each vertex was projected on (its normal tells which way the surface faces).
+  std::vector<std::uint32_t> face_of(total, kNone);
+  for (std::uint32_t v = 0; v < h.vertex_count(0); ++v) face_of[v] = surface.closest(at(x, v)).face;
+  auto input_normal = [&](std::uint32_t f) {
+    const Vec a = at(input.positions, input.triangles[3 * f]);
+    Vec n = cross(sub(at(input.positions, input.triangles[3 * f + 1]), a), sub(at(input.positions, input.triangles[3 * f + 2]), a));
+    const double len = std::sqrt(dot(n, n));
+    if (len > 0)
+      for (double& c : n) c /= len;
+    return n;
+  };
+
+  const WaveletTransform butterfly(h, {Scheme::butterfly});
+  std::vector<double> next;
+  std::vector<std::uint32_t> next_face;
+  const double work_total = static_cast<double>(total - h.vertex_count(0)) * (1 + options.relax_iterations);
+  double work_done = 0;
+
+  for (int j = 1; j <= levels; ++j) {
+    const std::uint32_t first = h.vertex_count(j - 1), end = h.vertex_count(j);
+    const std::vector<std::uint32_t>& triangles = h.triangles(j);
+    const Adjacency adjacency(end, triangles);
+
+    // One Jacobi round over `vertices`: optionally a tangential umbrella move of `step`, then
+    // projection on the input (boundary vertices: on its boundary curves).
+    auto round = [&](const std::vector<std::uint32_t>& vertices, bool smooth, double step) {
+      next.assign(3 * vertices.size(), 0.0);
+      next_face.assign(vertices.size(), kNone);
+      parallel_for(vertices.size(), threads, [&](std::size_t begin, std::size_t stop) {
+        for (std::size_t i = begin; i < stop; ++i) {
+          const std::uint32_t v = vertices[i];
+          Vec p = at(x, v);
+          const bool on_boundary = adjacency.on_boundary(v);
+          Vec n = vertex_normal(adjacency, triangles, x, v);
+          const double n_len = std::sqrt(dot(n, n));
+          if (n_len > 0)
+            for (double& c : n) c /= n_len;
+          // Mean distance to the neighbours: the scale of the vertex's moves.
+          double reach = 0;
+          const double n_count = adjacency.neighbour_offsets[v + 1] - adjacency.neighbour_offsets[v];
+          for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
+            const Vec d = sub(at(x, adjacency.neighbours[k]), p);
+            reach += std::sqrt(dot(d, d)) / n_count;
+          }
+          if (smooth) {
+            Vec mean{0, 0, 0};
+            const auto& offsets = on_boundary ? adjacency.boundary_neighbour_offsets : adjacency.neighbour_offsets;
+            const auto& list = on_boundary ? adjacency.boundary_neighbours : adjacency.neighbours;
+            const double m_count = offsets[v + 1] - offsets[v];
+            for (std::uint32_t k = offsets[v]; k < offsets[v + 1]; ++k) {
+              const Vec q = at(x, list[k]);
+              for (int c = 0; c < 3; ++c) mean[c] += q[c] / m_count;
+            }
+            Vec move = sub(mean, p);
+            if (!on_boundary && n_len > 0) {
+              const double along = dot(move, n);
+              for (int c = 0; c < 3; ++c) move[c] -= along * n[c];
+            }
+            for (int c = 0; c < 3; ++c) p[c] += step * move[c];
+          }
+          SurfacePoint s;
+          if (on_boundary && !boundary.segments.empty()) {
+            p = boundary.closest(p);
+            s = surface.closest(p);
+          } else {
+            s = n_len > 0 ? shoot(surface, p, n, 2 * reach) : SurfacePoint{};
+            if (s.face == kNone) s = surface.closest(p);  // no facing hit near: the closest point
+            p = s.point;
+          }
+          next[3 * i] = p[0], next[3 * i + 1] = p[1], next[3 * i + 2] = p[2];
+          next_face[i] = s.face;
+        }
+      });
+      for (std::size_t i = 0; i < vertices.size(); ++i) {
+        for (int c = 0; c < 3; ++c) x[3 * vertices[i] + c] = next[3 * i + c];
+        face_of[vertices[i]] = next_face[i];
+      }
+    };
+
+    // Start positions: the guide on the coarsest levels; further up, the butterfly prediction
+    // from the level below, already on the surface (closer to it than the guide, which knows
+    // only the base). Measured against Loop's positive edge rule (3/8, 3/8, 1/8, 1/8), which
+    // cannot overshoot: butterfly folded fewer faces on the corpus (armadillo, L = 4: 136 vs
+    // 428; cow 617 vs 828) and lost less (cow 69.6 vs 69.6 dB, fandisk 73.2 vs 70.4 dB).
+    if (j > options.guide_levels) {
+      std::fill(x.begin() + 3 * std::ptrdiff_t{first}, x.begin() + 3 * std::ptrdiff_t{end}, 0.0);
+      butterfly.synthesize(x, 3, j, j - 1);
+    }
+    // Round 0 projects the start positions; rounds 1.. smooth tangentially, then project.
+    std::vector<std::uint32_t> fresh(end - first);
+    for (std::uint32_t i = 0; i < fresh.size(); ++i) fresh[i] = first + i;
+    for (int r = 0; r <= options.relax_iterations; ++r) {
+      round(fresh, r > 0, options.relax_step);
+      work_done += static_cast<double>(fresh.size());
+      if (options.progress) options.progress(work_done / work_total);
+    }
+
+    // Untangling: a face is folded when it faces away from the input normals under its corners.
+    // Its corners and their neighbours (base vertices excepted) take full umbrella steps until
+    // no face of the level is folded, or the count stops falling.
+    std::size_t best = SIZE_MAX;
+    for (int attempt = 0, stalled = 0; attempt < options.untangle_rounds && stalled < 5; ++attempt) {
+      std::vector<std::uint8_t> marked(end, 0);
+      std::size_t folded = 0;
+      for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
+        const std::uint32_t* t = &triangles[3 * f];
+        const Vec a = at(x, t[0]);
+        const Vec n = cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a));
+        Vec reference{0, 0, 0};
+        for (int i = 0; i < 3; ++i) {
+          const Vec m = input_normal(face_of[t[i]]);
+          for (int c = 0; c < 3; ++c) reference[c] += m[c];
+        }
+        if (dot(n, reference) > 0) continue;
+        ++folded;
+        for (int i = 0; i < 3; ++i) {
+          marked[t[i]] = 1;
+          for (std::uint32_t k = adjacency.neighbour_offsets[t[i]]; k < adjacency.neighbour_offsets[t[i] + 1]; ++k)
+            marked[adjacency.neighbours[k]] = 1;
+        }
+      }
+      if (folded == 0) break;
+      stalled = folded < best ? 0 : stalled + 1;
+      best = std::min(best, folded);
+      std::vector<std::uint32_t> tangled;
+      for (std::uint32_t v = h.vertex_count(0); v < end; ++v)
+        if (marked[v]) tangled.push_back(v);
+      round(tangled, true, 1.0);
+    }
+  }
+}
+
+FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface) {
+  FoldOvers result;
+  const double diagonal = bounding_box_diagonal(remeshed.positions);
+  const TriangleMesh& input = surface.mesh();
+  for (std::size_t f = 0; f < remeshed.face_count(); ++f) {
+    const Vec a = at(remeshed.positions, remeshed.triangles[3 * f]), b = at(remeshed.positions, remeshed.triangles[3 * f + 1]),
+              c = at(remeshed.positions, remeshed.triangles[3 * f + 2]);
+    const Vec n = cross(sub(b, a), sub(c, a));
+    if (0.5 * std::sqrt(dot(n, n)) <= 1e-14 * diagonal * diagonal) {
+      result.degenerate.push_back(static_cast<std::uint32_t>(f));
+      continue;
+    }
+    const SurfacePoint s = surface.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
+    const std::uint32_t* t = &input.triangles[3 * s.face];
+    const Vec ia = at(input.positions, t[0]);
+    const Vec in = cross(sub(at(input.positions, t[1]), ia), sub(at(input.positions, t[2]), ia));
+    if (dot(n, in) < 0) result.flipped.push_back(static_cast<std::uint32_t>(f));
+  }
+  return result;
+}
+
+}  // namespace meshlift

@@ -1,0 +1,96 @@
+// The remeshing pipeline (remesh.h): any mesh -> semi-regular mesh close to its surface.
+#include <cmath>
+
+#include "meshlift/metric.h"
+#include "meshlift/remesh.h"
+#include "test_meshes.h"
+
+using namespace meshlift;
+
+namespace {
+
+/// A smooth closed surface that is no refinement: the icosahedron refined 4 times (2,562
+/// vertices), pushed onto a bumpy sphere r = 1 + 0.15 sin(3x) sin(2y) sin(2z), then its
+/// vertices renumbered by a scramble of the faces' connectivity (so it is not level-ordered).
+TriangleMesh bumpy_sphere() {
+  SemiRegularMesh s = refine_linear(test::icosahedron(), 4);
+  for (std::size_t v = 0; v < s.positions.size() / 3; ++v) {
+    double* p = &s.positions[3 * v];
+    const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    const double x = p[0] / len, y = p[1] / len, z = p[2] / len;
+    const double r = 1 + 0.15 * std::sin(3 * x) * std::sin(2 * y) * std::sin(2 * z);
+    p[0] = r * x, p[1] = r * y, p[2] = r * z;
+  }
+  return s.finest();
+}
+
+/// A wavy square sheet with one boundary loop: an n x n grid with z = 0.1 sin(4x) cos(3y).
+TriangleMesh wavy_sheet(int n) {
+  TriangleMesh m = test::grid(n);
+  for (std::size_t v = 0; v < m.vertex_count(); ++v)
+    m.positions[3 * v + 2] = 0.1 * std::sin(4 * m.positions[3 * v]) * std::cos(3 * m.positions[3 * v + 1]);
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("Remeshing a smooth closed surface gives a close semi-regular mesh without folds", "[remesh][pipeline]") {
+  const TriangleMesh input = bumpy_sphere();
+  RemeshOptions options;
+  options.levels = 3;
+  options.recognize = false;
+  const RemeshResult result = remesh(input, options);
+  CHECK_FALSE(result.recognized);
+  const SemiRegularHierarchy& h = result.mesh.hierarchy;
+  CHECK(h.levels() == 3);
+  CHECK(result.base_vertices == h.vertex_count(0));
+  CHECK(result.flipped_triangles == 0);
+  CHECK(result.degenerate_triangles == 0);
+  // The output is in level order: its hierarchy comes back from the file alone.
+  const auto again = recover_level_ordered(result.mesh.finest());
+  REQUIRE(again.has_value());
+  CHECK(again->hierarchy.levels() == 3);
+  const SurfaceDistance d = surface_distance(input, result.mesh.finest());
+  INFO("PSNR " << d.psnr_db() << " dB, " << h.vertex_count(3) << " vertices");
+  CHECK(d.psnr_db() > 70);
+  // Loop fitting of the base brings the start positions closer: not worse than without.
+  options.fit = BaseFit::none;
+  const RemeshResult unfitted = remesh(input, options);
+  CHECK(surface_distance(input, unfitted.mesh.finest()).psnr_db() > 65);
+}
+
+TEST_CASE("Remeshing keeps boundaries on the input's boundary", "[remesh][pipeline]") {
+  const TriangleMesh input = wavy_sheet(21);
+  RemeshOptions options;
+  options.levels = 2;
+  options.recognize = false;
+  const RemeshResult result = remesh(input, options);
+  // Known gap (docs/RESULTS.md): two level-2 faces next to one extraordinary base vertex fold
+  // here (the fitting has no fold-free guarantee). Held to that, so any regression shows.
+  CHECK(result.flipped_triangles <= 2);
+  CHECK(result.degenerate_triangles == 0);
+  // Boundary vertices of the result lie on the square's sides (x or y in {0, 1}).
+  const TriangleMesh out = result.mesh.finest();
+  const TriangleTopology t = TriangleTopology::build(static_cast<std::uint32_t>(out.vertex_count()), out.triangles);
+  std::size_t boundary_vertices = 0;
+  for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
+    if (!t.is_boundary_edge(e)) continue;
+    for (int i = 0; i < 2; ++i) {
+      const double* p = &out.positions[3 * t.edge_vertices[2 * e + i]];
+      const double side = std::min({std::abs(p[0]), std::abs(p[0] - 1), std::abs(p[1]), std::abs(p[1] - 1)});
+      CHECK(side < 1e-12);
+      ++boundary_vertices;
+    }
+  }
+  CHECK(boundary_vertices > 0);
+  CHECK(surface_distance(input, out).psnr_db() > 60);
+}
+
+TEST_CASE("Remeshing rejects what it cannot remesh with the validator's message", "[remesh][pipeline]") {
+  TriangleMesh soup = test::icosahedron();
+  soup.triangles.insert(soup.triangles.end(), {0, 1, 2});  // a third face on edge (0, 1)... and a duplicate
+  CHECK_THROWS_AS(remesh(soup), MeshError);
+  RemeshOptions options;
+  options.levels = 13;
+  CHECK_THROWS_AS(remesh(test::icosahedron(), options), MeshError);
+}

@@ -1,0 +1,58 @@
+#include "remesh_options.h"
+
+#include <cstdio>
+#include <iostream>
+
+#include "meshlift/metric.h"
+#include "progress.h"
+
+namespace meshlift::cli {
+
+void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options) {
+  cmd.add_option("--levels", options.levels, "refinements of the base mesh (when remeshing)")
+      ->check(CLI::Range(0, 12))
+      ->capture_default_str();
+  cmd.add_option("--base-vertices", options.base_vertices, "base mesh size; 0 chooses from the mesh and --levels")
+      ->capture_default_str();
+  cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
+      ->check(CLI::IsMember({"loop", "none"}))
+      ->capture_default_str();
+}
+
+std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
+                                           const RemeshCliOptions& options) {
+  RemeshOptions o;
+  o.levels = options.levels;
+  o.base_vertices = options.base_vertices;
+  o.fit = options.fit == "none" ? BaseFit::none : BaseFit::loop;
+  ProgressBar bar("remeshing");
+  o.progress = [&bar](double f) { bar.update(f); };
+  try {
+    if (!input.is_triangle_mesh())
+      throw MeshError("not a triangle mesh: the remesher takes triangles (triangulate the polygons first)");
+    return remesh(to_triangle_mesh(input), o);
+  } catch (const MeshError& e) {
+    std::cerr << "meshlift: " << path << ": " << e.what() << "\n";
+    return std::nullopt;
+  }
+}
+
+void print_remesh_summary(const std::string& path, const PolygonMesh& input, const RemeshResult& result,
+                          double seconds) {
+  const SemiRegularHierarchy& h = result.mesh.hierarchy;
+  const double out = h.vertex_count(h.levels()), in = static_cast<double>(input.vertex_count());
+  if (result.recognized) {
+    std::fprintf(stderr, "%s: already semi-regular: %u base vertices, %d levels, taken over as it is\n", path.c_str(),
+                 h.vertex_count(0), h.levels());
+    return;
+  }
+  std::fprintf(stderr, "%s: %.0f vertices -> base %zu, %d levels, %.0f vertices (%.2fx the input) in %.2f s\n",
+               path.c_str(), in, result.base_vertices, h.levels(), out, out / in, seconds);
+  std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
+               result.degenerate_triangles);
+  const SurfaceDistance d = surface_distance(to_triangle_mesh(input), result.mesh.finest());
+  std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
+               path.c_str(), d.psnr_db(), d.rms_relative(), d.hausdorff_relative());
+}
+
+}  // namespace meshlift::cli

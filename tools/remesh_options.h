@@ -1,0 +1,30 @@
+// The remeshing options and steps that `meshlift remesh` and `meshlift encode` share.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "meshlift/remesh.h"
+
+namespace meshlift::cli {
+
+struct RemeshCliOptions {
+  int levels = 4;
+  std::size_t base_vertices = 0;
+  std::string fit = "loop";
+};
+
+/// Adds --levels, --base-vertices and --fit to `cmd`.
+void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options);
+
+/// Remeshes `input` (read from `path`) with a progress bar; on failure prints
+/// `meshlift: PATH: problem` and returns nullopt.
+std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
+                                           const RemeshCliOptions& options);
+
+/// Prints what the remesh did: vertex counts, levels, fold-overs, time (one line each).
+void print_remesh_summary(const std::string& path, const PolygonMesh& input, const RemeshResult& result,
+                          double seconds);
+
+}  // namespace meshlift::cli
