@@ -148,6 +148,18 @@ TEST_CASE("unsuitable meshes are named and pointed to the decimation remesher", 
     if (v == 12) v = 0;
   CHECK_THAT(problem(pinched), Catch::Contains("not manifold (0 non-manifold edges, 1 non-manifold vertices)"));
   REQUIRE_THROWS_AS(parametrize_sphere(test::torus()), MeshError);
+  REQUIRE_THROWS_AS(remesh_sphere(icosphere(1), 12), MeshError);
+  // Isolated vertices are allowed and left out: they get (0, 0, 1), the rest stays bijective.
+  TriangleMesh isolated = icosphere(1);
+  isolated.positions.insert(isolated.positions.begin(), {9.0, 9.0, 9.0});
+  for (std::uint32_t& v : isolated.triangles) ++v;
+  CHECK(problem(isolated).empty());
+  const SphericalParametrization p = parametrize_sphere(isolated);
+  require_bijective(p);
+  CHECK((p.sphere[0] == 0.0 && p.sphere[1] == 0.0 && p.sphere[2] == 1.0));
+  const SemiRegularMesh remeshed = remesh_sphere(isolated, 2);
+  REQUIRE(remeshed.positions.size() == 3 * 66);
+  for (const double x : remeshed.positions) REQUIRE(std::fabs(x) <= 1.0);  // never the isolated (9, 9, 9)
   REQUIRE_THROWS_WITH(remesh_sphere(test::grid(4), 3), Catch::Contains("--remesh decimate"));
 }
 
