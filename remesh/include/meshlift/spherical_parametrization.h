@@ -19,13 +19,14 @@ namespace meshlift {
 /// "" when `mesh` can be parametrized on the sphere: triangles only, valid indices, finite
 /// coordinates, closed, manifold, consistently oriented, one component, genus 0 (isolated
 /// vertices are allowed and ignored). Otherwise one line naming what is wrong, e.g.
-/// "not closed (12 boundary edges): the sphere remesher needs a closed genus-0 surface; use
-/// --remesh decimate".
+/// "not closed (12 boundary edges in 1 loops): the sphere remesher needs a closed, manifold,
+/// genus-0 surface in one piece; use --remesh decimate" (several problems are joined by "; ").
 std::string sphere_parametrization_problem(const TriangleMesh& mesh);
 
 struct SphericalParametrizationOptions {
-  /// A global stretch sweep over all present vertices runs whenever the vertex count has grown
-  /// by this factor since the last sweep (Praun & Hoppe optimize "at geometrically spaced levels").
+  /// Each vertex split moves the new vertex twice and its ring once; in addition a sweep over all
+  /// present vertices runs whenever the vertex count has grown by this factor since the last one
+  /// (optimization at geometrically spaced levels of the progressive mesh).
   double sweep_growth = 1.25;
   /// Sweeps over all vertices once every vertex is back.
   int final_sweeps = 6;
