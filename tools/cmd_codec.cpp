@@ -11,6 +11,7 @@
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "meshlift/validate.h"
+#include "remesh_options.h"
 
 namespace meshlift::cli {
 namespace {
@@ -45,7 +46,8 @@ std::size_t bytes_for_psnr(const std::vector<std::uint8_t>& file, const std::vec
 struct EncodeArgs {
   std::string input, output, scheme = "loop";
   bool update = false;
-  int levels = -1, bits = 16;
+  int bits = 16;
+  RemeshCliOptions remesh;
   double bpv = 0, psnr = 0;
   std::size_t bytes = 0;
 };
@@ -60,18 +62,13 @@ int run_encode(const EncodeArgs& a) {
     std::cerr << "meshlift: " << a.input << ": " << problem << "\n";
     return kBadInput;
   }
-  std::optional<SemiRegularMesh> mesh = recover_level_ordered(to_triangle_mesh(input));
-  if (!mesh) {
-    std::cerr << "meshlift: " << a.input
-              << ": no subdivision connectivity in meshlift's level order (make one with `meshlift subdivide`; "
-                 "remeshing arbitrary meshes is not built yet)\n";
-    return kBadInput;
-  }
-  if (a.levels >= 0 && a.levels != mesh->hierarchy.levels()) {
-    std::cerr << "meshlift: " << a.input << ": the mesh has " << mesh->hierarchy.levels()
-              << " subdivision levels, --levels asked for " << a.levels << "\n";
-    return kBadInput;
-  }
+  // Any triangle mesh: taken over if it already is semi-regular, else remeshed (remesh.h).
+  const auto t_remesh = std::chrono::steady_clock::now();
+  std::optional<RemeshResult> remeshed = remesh_for_cli(a.input, input, a.remesh);
+  if (!remeshed) return kBadInput;
+  print_remesh_summary(a.input, input, *remeshed,
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_remesh).count());
+  const SemiRegularMesh* mesh = &remeshed->mesh;
   EncodeOptions options;
   options.scheme = parse_scheme(a.scheme);
   options.mean_preserving_update = a.update;
@@ -258,13 +255,12 @@ int run_stream(const StreamArgs& a) {
 void register_encode(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<EncodeArgs>();
   auto* cmd = app.add_subcommand("encode", "Encode a semi-regular mesh into an embedded .mlz stream");
-  cmd->add_option("input", a->input, "mesh with subdivision connectivity in level order (e.g. from `meshlift subdivide`)")
-      ->required();
+  cmd->add_option("input", a->input, "triangle mesh (remeshed unless it already is semi-regular)")->required();
   cmd->add_option("-o,--output", a->output, "output .mlz file")->required();
   cmd->add_option("--scheme", a->scheme, "wavelet: linear, butterfly or loop")
       ->check(CLI::IsMember({"linear", "butterfly", "loop"}));
   cmd->add_flag("--update", a->update, "mean-preserving update (linear, butterfly)");
-  cmd->add_option("--levels", a->levels, "expected subdivision levels of the input")->check(CLI::Range(0, 12));
+  add_remesh_options(*cmd, a->remesh);
   cmd->add_option("--bits", a->bits, "precision of the finest bit plane: step = diagonal * 2^-bits")
       ->check(CLI::Range(1, 40));
   auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")
