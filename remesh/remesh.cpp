@@ -10,13 +10,17 @@
 #include "meshlift/remesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "meshlift/closest_point.h"
 #include "meshlift/decimate.h"
+#include "meshlift/geometry_image.h"
 #include "meshlift/interpolate.h"
 #include "meshlift/lifting.h"
 #include "meshlift/limit.h"
+#include "meshlift/metric.h"
+#include "meshlift/spherical_parametrization.h"
 #include "meshlift/surface_fit.h"
 #include "meshlift/validate.h"
 
@@ -101,11 +105,37 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   }
 
   const SurfaceQuery surface(mesh);
+  auto by_sphere = [&](int levels) {
+    RemeshResult result{remesh_sphere(mesh, levels)};
+    result.method = RemeshMethod::sphere;
+    result.base_vertices = result.mesh.hierarchy.vertex_count(0);
+    const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
+    result.flipped_triangles = folds.flipped.size();
+    result.degenerate_triangles = folds.degenerate.size();
+    return result;
+  };
+  if (options.method == RemeshMethod::sphere) {
+    RemeshResult result = by_sphere(options.levels);
+    report(1);
+    return result;
+  }
   DecimateOptions decimate_options;
   decimate_options.levels = options.levels;
   decimate_options.target_vertices =
       options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels);
   RemeshResult result = remesh_by_decimation(mesh, surface, decimate_options, options.fit, report);
+  if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
+    // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.
+    const double target = result.mesh.hierarchy.vertex_count(result.mesh.hierarchy.levels());
+    int sphere_levels = 0;
+    while (sphere_levels < geometry_image_levels(kMaxGeometryImageSize) &&
+           std::abs(std::log(std::pow(4.0, sphere_levels + 2) + 2) - std::log(target)) <
+               std::abs(std::log(std::pow(4.0, sphere_levels + 1) + 2) - std::log(target)))
+      ++sphere_levels;
+    RemeshResult sphere = by_sphere(sphere_levels);
+    if (surface_distance(mesh, sphere.mesh.finest()).rms < surface_distance(mesh, result.mesh.finest()).rms)
+      result = std::move(sphere);
+  }
   report(1);
   return result;
 }

@@ -260,7 +260,7 @@ void register_encode(CLI::App& app, int& exit_code) {
   cmd->add_option("--scheme", a->scheme, "wavelet: linear, butterfly or loop")
       ->check(CLI::IsMember({"linear", "butterfly", "loop"}));
   cmd->add_flag("--update", a->update, "mean-preserving update (linear, butterfly)");
-  add_remesh_options(*cmd, a->remesh);
+  add_remesh_options(*cmd, a->remesh, "--remesh");
   cmd->add_option("--bits", a->bits, "precision of the finest bit plane: step = diagonal * 2^-bits")
       ->check(CLI::Range(1, 40));
   auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")

@@ -44,7 +44,7 @@ void register_remesh(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("remesh", "Remesh any triangle mesh to a semi-regular one (vertices in level order)");
   cmd->add_option("input", a->input, "input triangle mesh (obj, off, ply, stl)")->required();
   cmd->add_option("-o,--output", a->output, "output mesh")->required();
-  add_remesh_options(*cmd, a->remesh);
+  add_remesh_options(*cmd, a->remesh, "--method");
   cmd->add_flag("--binary", a->binary, "binary PLY/STL output");
   cmd->callback([a, &exit_code] { exit_code = run_remesh(*a); });
 }

@@ -8,7 +8,12 @@
 
 namespace meshlift::cli {
 
-void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options) {
+void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::string& method_flag) {
+  cmd.add_option(method_flag, options.method,
+                 "remesher: decimate (any mesh), sphere (closed genus-0: octahedral geometry image, --levels "
+                 "refinements of the octahedron), best (sphere when it applies and is closer to the input)")
+      ->check(CLI::IsMember({"decimate", "sphere", "best"}))
+      ->capture_default_str();
   cmd.add_option("--levels", options.levels, "refinements of the base mesh (when remeshing)")
       ->check(CLI::Range(0, 12))
       ->capture_default_str();
@@ -25,6 +30,9 @@ std::optional<RemeshResult> remesh_for_cli(const std::string& path, const Polygo
   o.levels = options.levels;
   o.base_vertices = options.base_vertices;
   o.fit = options.fit == "none" ? BaseFit::none : BaseFit::loop;
+  o.method = options.method == "sphere" ? RemeshMethod::sphere
+             : options.method == "best" ? RemeshMethod::best
+                                        : RemeshMethod::decimate;
   ProgressBar bar("remeshing");
   o.progress = [&bar](double f) { bar.update(f); };
   try {
@@ -46,8 +54,9 @@ void print_remesh_summary(const std::string& path, const PolygonMesh& input, con
                  h.vertex_count(0), h.levels());
     return;
   }
-  std::fprintf(stderr, "%s: %.0f vertices -> base %zu, %d levels, %.0f vertices (%.2fx the input) in %.2f s\n",
-               path.c_str(), in, result.base_vertices, h.levels(), out, out / in, seconds);
+  std::fprintf(stderr, "%s: %.0f vertices -> %s remesh: base %zu, %d levels, %.0f vertices (%.2fx the input) in %.2f s\n",
+               path.c_str(), in, result.method == RemeshMethod::sphere ? "sphere" : "decimation", result.base_vertices,
+               h.levels(), out, out / in, seconds);
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
                result.degenerate_triangles);
   const SurfaceDistance d = surface_distance(to_triangle_mesh(input), result.mesh.finest());

@@ -10,13 +10,15 @@
 namespace meshlift::cli {
 
 struct RemeshCliOptions {
+  std::string method = "decimate";
   int levels = 4;
   std::size_t base_vertices = 0;
   std::string fit = "loop";
 };
 
-/// Adds --levels, --base-vertices and --fit to `cmd`.
-void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options);
+/// Adds `method_flag` (--method for remesh, --remesh for encode), --levels, --base-vertices and
+/// --fit to `cmd`.
+void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::string& method_flag);
 
 /// Remeshes `input` (read from `path`) with a progress bar; on failure prints
 /// `meshlift: PATH: problem` and returns nullopt.

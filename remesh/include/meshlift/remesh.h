@@ -18,8 +18,19 @@ enum class BaseFit {
   loop,  ///< the base's Loop limit surface passes through the decimated points (seed 000)
 };
 
+/// Which remesher makes the semi-regular mesh.
+enum class RemeshMethod {
+  decimate,  ///< any genus, boundaries, components: decimated base, fitted refinement
+  sphere,    ///< closed genus-0 meshes in one piece: octahedral spherical geometry image
+             ///< (geometry_image.h); `levels` counts refinements of the octahedron
+  best,      ///< sphere when it applies and its remesh is closer to the input (metric.h) than
+             ///< the decimation remesh; the decimation remesh otherwise
+};
+
 struct RemeshOptions {
-  /// Refinements of the base mesh, 0..kMaxLevels.
+  RemeshMethod method = RemeshMethod::decimate;
+  /// Refinements of the base mesh, 0..kMaxLevels. For `best`, the sphere remesh gets the level
+  /// whose vertex count 4^(L+1) + 2 is nearest the decimation remesh's.
   int levels = 4;
   /// Base vertices; 0 chooses automatic_remesh_base().
   std::size_t base_vertices = 0;
@@ -37,6 +48,8 @@ struct RemeshResult {
   SemiRegularMesh mesh;
   /// True when the input already was semi-regular and was taken over as it is.
   bool recognized = false;
+  /// The remesher that made `mesh` (decimate or sphere; also when `best` chose).
+  RemeshMethod method = RemeshMethod::decimate;
   std::size_t base_vertices = 0;
   /// Triangles of the result whose normal points away (> 90°) from the input surface's normal
   /// at their closest point, and triangles of zero area: both 0 in a good remesh.
