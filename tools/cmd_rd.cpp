@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -212,6 +213,8 @@ class Progress {
     ++done_;
     if (enabled_) std::fprintf(stderr, "\r\033[K[%zu/%zu] %s", done_, total_, what.c_str());
   }
+  /// Counts steps that were skipped (a mesh that failed early) as done.
+  void skip_to(std::size_t done) { done_ = std::max(done_, done); }
   void finish() {
     if (enabled_) std::fprintf(stderr, "\r\033[K");
   }
@@ -281,8 +284,9 @@ class Sweep {
     Progress progress(per_mesh * options_.inputs.size());
     progress_ = &progress;
 
-    for (const std::string& input : options_.inputs) {
-      if (!sweep_mesh(input, draco)) return kOutputError;
+    for (std::size_t i = 0; i < options_.inputs.size(); ++i) {
+      if (!sweep_mesh(options_.inputs[i], draco)) return kOutputError;
+      progress.skip_to((i + 1) * per_mesh);
     }
     progress.finish();
     std::size_t failures = 0;
@@ -357,8 +361,6 @@ class Sweep {
     } else {
       // Every meshlift row of this mesh fails for the same reason: one row says it.
       if (!add(failed(base, remesh_error))) return false;
-      for (std::size_t i = 0; i < options_.schemes.size() * options_.bpv.size() * (options_.separate ? 2 : 1); ++i)
-        progress_->step(reference.name + ": remesh failed");
     }
     if (draco)
       for (int qp : options_.draco_qp)
