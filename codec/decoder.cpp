@@ -45,11 +45,12 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
   }
   const auto& chunks = out.container.chunks();
   if (chunks.empty() || !chunks[0].complete)
-    return failure(Status::truncated, "the stream ends inside its header chunk");
-  if (chunks[0].tag != kTagHeader) return failure(Status::corrupt, "the first chunk is not HEAD");
+    return failure(Status::truncated, "the stream ends inside its header chunk (at byte " + std::to_string(bytes.size()) + ")");
+  if (chunks[0].tag != kTagHeader)
+    return failure(Status::corrupt, "the first chunk (at byte 8) is " + tag_to_string(chunks[0].tag) + ", not HEAD");
   std::string message;
   const Status header_status = out.header.read(chunks[0].payload, limits, message);
-  if (header_status != Status::ok) return failure(header_status, message);
+  if (header_status != Status::ok) return failure(header_status, message + " (HEAD chunk at byte 8)");
   for (std::size_t i = 1; i < chunks.size(); ++i) {
     const Chunk& c = chunks[i];
     if (c.tag == kTagBaseMesh && i == 1) {
@@ -66,7 +67,8 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
     }  // unknown ancillary chunks are skipped (FORMAT.md §2.4)
   }
   if (out.base == nullptr || !out.base->complete)
-    return failure(Status::truncated, "the stream ends before its base mesh is complete");
+    return failure(Status::truncated, "the stream ends before its base mesh is complete (at byte " +
+                                          std::to_string(bytes.size()) + ")");
   return {};
 }
 
@@ -81,7 +83,8 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
 
   // Base mesh.
   if (header.base_faces > kMaxFacesPerBaseByte * stream.base->payload.size() + 1024)
-    return failure(Status::corrupt, "the base chunk is too short for " + std::to_string(header.base_faces) + " faces");
+    return failure(Status::corrupt, "the BASE chunk at byte " + std::to_string(stream.base->offset) + " is too short for " +
+                                        std::to_string(header.base_faces) + " faces");
   if (header.base_vertices > 3 * std::uint64_t{header.base_faces})
     return failure(Status::corrupt, std::to_string(header.base_vertices) + " base vertices cannot all lie on " +
                                         std::to_string(header.base_faces) + " faces");
@@ -92,12 +95,15 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
                                                std::to_string(options.limits.max_memory_bytes));
   std::vector<std::uint32_t> triangles;
   if (!base_mesh::decode_faces(stream.base->payload, header.base_vertices, header.base_faces, triangles))
-    return failure(Status::corrupt, "the base mesh connectivity does not decode");
+    return failure(Status::corrupt, "the base mesh connectivity in the BASE chunk at byte " +
+                                        std::to_string(stream.base->offset) + " does not decode to " +
+                                        std::to_string(header.base_faces) + " faces");
   TriangleTopology base;
   try {
     base = TriangleTopology::build(header.base_vertices, triangles);
   } catch (const MeshError& e) {
-    return failure(Status::corrupt, std::string("the base mesh is not a manifold mesh: ") + e.what());
+    return failure(Status::corrupt, "the base mesh in the BASE chunk at byte " + std::to_string(stream.base->offset) +
+                                        " is not a manifold mesh: " + e.what());
   }
   const RefinedSize refined = refined_size(base, header.levels);
   const double vertices = refined.vertices;

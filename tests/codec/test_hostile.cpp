@@ -195,6 +195,7 @@ TEST_CASE("hostile: a base chunk too short for its declared faces is refused bef
   DecodeResult r;
   const std::size_t peak = peak_allocation([&] { r = decode(file); });
   CHECK(r.status == Status::corrupt);
+  CHECK_THAT(r.message, Catch::Contains("BASE chunk at byte"));
   CHECK(peak < 64 * 1024);
 }
 
