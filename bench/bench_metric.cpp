@@ -63,5 +63,8 @@ int main() {
   } else {
     std::printf("refined_elephant.off not found (set MESHLIFT_CORPUS; scripts/corpus.sh fetches it)\n");
   }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf("peak RSS: %.1f MiB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
   return 0;
 }
