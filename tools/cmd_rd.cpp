@@ -125,7 +125,7 @@ bool write_tables(const std::string& dir, const std::vector<Row>& rows, std::str
     csv << "," << csv_field(r.error) << "\n";
     json << "  {\"mesh\": " << json_string(r.mesh) << ", \"input_vertices\": " << r.input_vertices
          << ", \"codec\": " << json_string(r.codec) << ", \"scheme\": " << json_string(r.scheme)
-         << ", \"kind\": " << json_string(r.kind) << ", \"param\": " << json_string(r.param)
+         << ", \"kind\": " << json_string(r.kind) << ", \"param\": " << (r.param.empty() ? std::string("null") : r.param)
          << ", \"bytes\": " << json_number(r.bytes) << ", \"bpv\": " << json_number(r.bpv)
          << ", \"psnr_db\": " << json_number(r.psnr_db) << ", \"rms_rel\": " << json_number(r.rms_rel)
          << ", \"hausdorff_rel\": " << json_number(r.hausdorff_rel) << ", \"encode_s\": " << json_number(r.encode_s)
