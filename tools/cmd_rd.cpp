@@ -36,7 +36,7 @@ struct RdOptions {
   std::vector<std::string> inputs;
   std::vector<std::string> schemes{"linear", "butterfly", "loop"};
   std::vector<double> bpv{0.25, 0.5, 1, 2, 4, 8};
-  int levels = 4;
+  int levels = RemeshOptions{}.levels;  // the remesher's own default
   std::size_t base_vertices = 0;
   int bits = 16;
   bool separate = false;
