@@ -11,7 +11,7 @@ namespace meshlift::cli {
 
 struct RemeshCliOptions {
   std::string method = "decimate";
-  int levels = 4;
+  int levels = 3;
   std::size_t base_vertices = 0;
   std::string fit = "loop";
 };

@@ -150,10 +150,11 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
   const std::string fine = (dir / "tet3.off").string(), mlz = (dir / "tet3.mlz").string();
   REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme loop --levels 3").exit_code == 0);
-  // A mesh without subdivision connectivity is refused with a pointer to `subdivide`.
-  const auto refused = run("encode " + tet.string() + " -o " + mlz);
+  // A mesh that is not a manifold is refused, naming the problem, and nothing is written.
+  const fs::path fin = write_file(dir / "fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  const auto refused = run("encode " + fin.string() + " -o " + mlz);
   CHECK(refused.exit_code == 3);
-  CHECK_THAT(refused.output, Catch::Contains("subdivide"));
+  CHECK_THAT(refused.output, Catch::Contains("non-manifold"));
   CHECK_FALSE(fs::exists(mlz));
 
   const auto encoded = run("encode " + fine + " -o " + mlz + " --scheme butterfly");

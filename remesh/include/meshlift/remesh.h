@@ -29,9 +29,10 @@ enum class RemeshMethod {
 
 struct RemeshOptions {
   RemeshMethod method = RemeshMethod::decimate;
-  /// Refinements of the base mesh, 0..kMaxLevels. For `best`, the sphere remesh gets the level
+  /// Refinements of the base mesh, 0..kMaxLevels (3: measured the best remesh error at a given
+  /// vertex count on the corpus, docs/RESULTS.md). For `best`, the sphere remesh gets the level
   /// whose vertex count 4^(L+1) + 2 is nearest the decimation remesh's.
-  int levels = 4;
+  int levels = 3;
   /// Base vertices; 0 chooses automatic_remesh_base().
   std::size_t base_vertices = 0;
   BaseFit fit = BaseFit::loop;
