@@ -343,9 +343,13 @@ std::string ply_count_problem(const std::string& path, std::uintmax_t size) {
     } else if (word == "element") {
       if (words_on_line != 3) return malformed();
       Element e;
-      long double count = -1;
-      words >> e.name >> count;
-      if (!words || count < 0) return "PLY element line '" + line.substr(0, 80) + "' has no valid count";
+      std::string count_text;
+      words >> e.name >> count_text;
+      // OpenMesh reads the count into an unsigned int; anything else (".0", "1e3", "-1") fails
+      // that read and its header loop then never sees end_header: digits only.
+      if (count_text.empty() || count_text.find_first_not_of("0123456789") != std::string::npos)
+        return "PLY element line '" + line.substr(0, 80) + "' has no valid count";
+      const long double count = count_text.size() > 19 ? 1e19L : std::stold(count_text);
       if (count > static_cast<long double>(size))
         return "PLY header claims " + std::to_string(static_cast<unsigned long long>(std::min<long double>(count, 1e19L))) +
                " " + e.name + " elements, more than the file's " + std::to_string(size) + " bytes";
