@@ -509,6 +509,15 @@ void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) {
       mesh.face_offsets.back() != mesh.face_indices.size())
     fail(path, "face_offsets does not span face_indices");
   const std::size_t vertex_count = mesh.vertex_count();
+  // OpenMesh 9's writers store 32-bit floats: a coordinate outside the float range would be
+  // written as "inf" (or a binary infinity), a file no reader accepts back.
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!std::isfinite(static_cast<float>(mesh.positions[i]))) {
+      std::ostringstream value;
+      value << mesh.positions[i];
+      fail(path, "vertex " + std::to_string(i / 3) + " has coordinate " + value.str() +
+                     ", outside the 32-bit float range of mesh files (scale the mesh down)");
+    }
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     if (mesh.face_offsets[f + 1] < mesh.face_offsets[f]) fail(path, "face_offsets is not increasing");
     if (ext == "stl" && mesh.face_size(f) != 3)
