@@ -379,17 +379,44 @@ std::string ply_count_problem(const std::string& path, std::uintmax_t size) {
            std::to_string(size) + " bytes";
   };
   if (format == "ascii") {
+    // OpenMesh extracts each value with operator>> into the property's type, so "4-5" is two
+    // numbers to it and "-5" as a list count wraps to 4e9 corners read from a failed stream.
+    // Only tokens that every such extraction reads whole are let through: integers (digits,
+    // optional sign) for integer properties, plain decimals for float properties, and unsigned
+    // digits for list counts; a token boundary is then the same for OpenMesh as here.
+    const auto is_integer = [](const std::string& t) {
+      const std::size_t start = t[0] == '+' || t[0] == '-';
+      return start < t.size() && t.find_first_not_of("0123456789", start) == std::string::npos;
+    };
+    const auto is_decimal = [](const std::string& t) {
+      if (t.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
+      char* end = nullptr;
+      std::strtod(t.c_str(), &end);
+      return end == t.c_str() + t.size();
+    };
+    const auto is_float_type = [](const std::string& type) {
+      return type == "float" || type == "float32" || type == "double" || type == "float64";
+    };
+    const auto bad_value = [&](const Element& e, std::uintmax_t item, const std::string& token) {
+      return "PLY " + e.name + " " + std::to_string(item) + ": '" + token.substr(0, 40) + "' is not a valid number";
+    };
     std::string token;
     for (const Element& e : elements)
       for (std::uintmax_t item = 0; item < e.count; ++item)
         for (const Property& property : e.properties) {
           if (!(in >> token)) return "";
-          if (property.count_type.empty()) continue;
-          char* end = nullptr;
-          const double count = std::strtod(token.c_str(), &end);
-          if (!(count >= 0) || count > static_cast<double>(size)) return too_long(e, count > 0 ? std::uintmax_t(std::min(count, 1e18)) : UINTMAX_MAX);
-          for (std::uintmax_t k = 0; k < static_cast<std::uintmax_t>(count); ++k)
+          const auto valid = [&](const std::string& type) { return is_float_type(type) ? is_decimal(token) : is_integer(token); };
+          if (property.count_type.empty()) {
+            if (!valid(property.type)) return bad_value(e, item, token);
+            continue;
+          }
+          if (token.find_first_not_of("0123456789") != std::string::npos) return bad_value(e, item, token);
+          const std::uintmax_t count = token.size() > 19 ? UINTMAX_MAX : std::stoull(token);
+          if (count > size) return too_long(e, count);
+          for (std::uintmax_t k = 0; k < count; ++k) {
             if (!(in >> token)) return "";
+            if (!valid(property.type)) return bad_value(e, item, token);
+          }
         }
     return "";
   }
