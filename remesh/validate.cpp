@@ -105,7 +105,7 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   for (std::size_t v = 0; v < vertex_count; ++v) {
     if (!(std::isfinite(p[3 * v]) && std::isfinite(p[3 * v + 1]) && std::isfinite(p[3 * v + 2]))) {
       finite[v] = 0;
-      ++r.non_finite_vertices;
+      if (r.non_finite_vertices++ == 0) r.first_non_finite_vertex = static_cast<std::uint32_t>(v);
       continue;
     }
     for (int k = 0; k < 3; ++k) {
@@ -233,14 +233,20 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
       const HalfEdge& y = half_edges[i + 1];
       // Section 8.3.1.1: consistently oriented neighbours list the shared edge as (i,j) and (j,i).
       const bool flip = x.forward == y.forward;
-      if (flip) ++r.inconsistent_edges;
+      if (flip && r.inconsistent_edges++ == 0) {
+        r.first_inconsistent_edge[0] = a;
+        r.first_inconsistent_edge[1] = b;
+      }
       adjacency.push_back({x.face, y.face, flip});
       adjacency.push_back({y.face, x.face, flip});
       const auto corner_at = [&](const HalfEdge& h, std::uint32_t v) { return corner_vertex[h.from] == v ? h.from : h.to; };
       fans.unite(corner_at(x, a), corner_at(y, a));
       fans.unite(corner_at(x, b), corner_at(y, b));
     } else {
-      ++r.non_manifold_edges;
+      if (r.non_manifold_edges++ == 0) {
+        r.first_non_manifold_edge[0] = a;
+        r.first_non_manifold_edge[1] = b;
+      }
       for (std::size_t k = i; k < j; ++k) face_on_non_manifold_edge[half_edges[k].face] = 1;
     }
     i = j;
@@ -261,7 +267,7 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
     for (std::size_t i = 1; i < vertex_fan.size(); ++i)
       if (vertex_fan[i].first == vertex_fan[i - 1].first && !non_manifold_vertex[vertex_fan[i].first]) {
         non_manifold_vertex[vertex_fan[i].first] = 1;
-        ++r.non_manifold_vertices;
+        if (r.non_manifold_vertices++ == 0) r.first_non_manifold_vertex = vertex_fan[i].first;
       }
   }
 
@@ -381,14 +387,23 @@ std::string first_problem_for_triangle_codec(const MeshReport& r) {
   if (r.degenerate_faces > 0)
     return plural(r.degenerate_faces, "degenerate face", "degenerate faces") + " (repeated vertex; first: face " +
            std::to_string(r.first_degenerate_face) + ")";
+  const auto edge = [](const std::uint32_t (&e)[2]) {
+    return "edge " + std::to_string(e[0]) + "-" + std::to_string(e[1]);
+  };
   if (r.non_finite_vertices > 0)
-    return plural(r.non_finite_vertices, "vertex has", "vertices have") + " non-finite coordinates";
-  if (r.non_manifold_edges > 0) return plural(r.non_manifold_edges, "non-manifold edge", "non-manifold edges");
-  if (r.non_manifold_vertices > 0) return plural(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices");
+    return plural(r.non_finite_vertices, "vertex has", "vertices have") + " non-finite coordinates (first: vertex " +
+           std::to_string(r.first_non_finite_vertex) + ")";
+  if (r.non_manifold_edges > 0)
+    return plural(r.non_manifold_edges, "non-manifold edge", "non-manifold edges") + " (first: " +
+           edge(r.first_non_manifold_edge) + ", on more than two faces)";
+  if (r.non_manifold_vertices > 0)
+    return plural(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + " (first: vertex " +
+           std::to_string(r.first_non_manifold_vertex) + ", where separate fans of faces meet)";
   if (!r.orientable) return "mesh is not orientable";
   if (!r.consistently_oriented)
     return plural(r.inconsistent_edges, "edge is", "edges are") +
-           " traversed in the same direction by both faces: orientation is inconsistent";
+           " traversed in the same direction by both faces: orientation is inconsistent (first: " +
+           edge(r.first_inconsistent_edge) + ")";
   return "";
 }
 

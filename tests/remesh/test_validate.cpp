@@ -261,7 +261,7 @@ TEST_CASE("three triangles on one edge: a non-manifold edge", "[validate]") {
   REQUIRE(r.boundary_edges == 6);
   REQUIRE_FALSE(r.is_manifold());
   REQUIRE(r.components.at(0).genus == -1);
-  REQUIRE(first_problem_for_triangle_codec(r) == "1 non-manifold edge");
+  REQUIRE(first_problem_for_triangle_codec(r) == "1 non-manifold edge (first: edge 0-1, on more than two faces)");
 }
 
 TEST_CASE("two tetrahedra sharing one vertex: a pinched - non-manifold vertex", "[validate]") {
@@ -275,7 +275,7 @@ TEST_CASE("two tetrahedra sharing one vertex: a pinched - non-manifold vertex", 
   REQUIRE(r.is_closed());
   REQUIRE(r.euler_characteristic == 7 - 12 + 8);
   REQUIRE(r.components.at(0).genus == -1);
-  REQUIRE(first_problem_for_triangle_codec(r) == "1 non-manifold vertex");
+  REQUIRE(first_problem_for_triangle_codec(r) == "1 non-manifold vertex (first: vertex 0, where separate fans of faces meet)");
 }
 
 TEST_CASE("a flipped face is orientable but not consistently oriented", "[validate]") {
@@ -288,7 +288,7 @@ TEST_CASE("a flipped face is orientable but not consistently oriented", "[valida
   REQUIRE(r.inconsistent_edges == 3);
   REQUIRE(r.components.at(0).genus == 0);  // genus needs orientability, not the current orientation
   REQUIRE(first_problem_for_triangle_codec(r) ==
-          "3 edges are traversed in the same direction by both faces: orientation is inconsistent");
+          "3 edges are traversed in the same direction by both faces: orientation is inconsistent (first: edge 0-5)");
 }
 
 TEST_CASE("a Möbius strip is not orientable", "[validate]") {
@@ -321,7 +321,7 @@ TEST_CASE("vertex defects: NaN - duplicates - isolated", "[validate]") {
   const MeshReport r = validate_mesh(nan);
   REQUIRE(r.non_finite_vertices == 2);
   REQUIRE(std::isfinite(r.bbox_diagonal));
-  REQUIRE(first_problem_for_triangle_codec(r) == "2 vertices have non-finite coordinates");
+  REQUIRE(first_problem_for_triangle_codec(r) == "2 vertices have non-finite coordinates (first: vertex 1)");
 
   TriangleMesh extra = test::icosahedron();
   extra.positions.insert(extra.positions.end(), {extra.positions[9], extra.positions[10], extra.positions[11]});

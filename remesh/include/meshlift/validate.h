@@ -56,12 +56,15 @@ struct MeshReport {
   std::uint64_t edges = 0;                ///< distinct undirected edges of usable faces
   std::uint64_t boundary_edges = 0;       ///< edges with exactly one face
   std::uint64_t non_manifold_edges = 0;   ///< edges with more than two faces
+  /// The lowest non-manifold edge (by its vertex pair, smaller first); kNone, kNone if none.
+  std::uint32_t first_non_manifold_edge[2] = {kNone, kNone};
   /// Boundary edges grouped into loops by shared vertices (loops that touch at a
   /// non-manifold vertex count as one; such vertices are reported below).
   std::uint64_t boundary_loops = 0;
   /// Vertices whose incident usable faces form more than one fan, fans being joined only across
   /// manifold (two-face) edges through the vertex: pinch points, and the ends of non-manifold edges.
   std::uint64_t non_manifold_vertices = 0;
+  std::uint32_t first_non_manifold_vertex = kNone;  ///< the lowest such vertex
 
   /// A choice of face orientations exists that makes every manifold edge traversed in opposite
   /// directions by its two faces (found by breadth-first propagation, exercise 8.6).
@@ -69,6 +72,8 @@ struct MeshReport {
   /// Every manifold edge already is traversed in opposite directions by its two faces.
   bool consistently_oriented = true;
   std::uint64_t inconsistent_edges = 0;   ///< manifold edges traversed the same way by both faces
+  /// The lowest such edge (by its vertex pair, smaller first); kNone, kNone if none.
+  std::uint32_t first_inconsistent_edge[2] = {kNone, kNone};
 
   std::uint64_t referenced_vertices = 0;  ///< vertices used by at least one usable face
   std::uint64_t isolated_vertices = 0;    ///< vertices named by no face corner at all
@@ -79,6 +84,7 @@ struct MeshReport {
 
   std::uint64_t duplicate_vertices = 0;   ///< extra copies of exactly equal finite positions
   std::uint64_t non_finite_vertices = 0;  ///< a NaN or infinite coordinate
+  std::uint32_t first_non_finite_vertex = kNone;
   double bbox_diagonal = 0.0;             ///< over finite vertices only
 
   /// No non-manifold edge or vertex.
