@@ -9,17 +9,17 @@
 #include <limits>
 #include <string>
 
+#include "vec3.h"
+
 namespace meshlift {
 
 namespace {
 
-using Vec3 = std::array<double, 3>;
+using vec3::Vec3;
+using vec3::cross;
+using vec3::dot;
+using vec3::sub;
 
-Vec3 sub(const Vec3& u, const Vec3& v) { return {u[0] - v[0], u[1] - v[1], u[2] - v[2]}; }
-double dot(const Vec3& u, const Vec3& v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
-Vec3 cross(const Vec3& u, const Vec3& v) {
-  return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-}
 /// a + v·ab + w·ac
 Vec3 combine(const Vec3& a, const Vec3& ab, double v, const Vec3& ac, double w) {
   return {a[0] + v * ab[0] + w * ac[0], a[1] + v * ab[1] + w * ac[1], a[2] + v * ab[2] + w * ac[2]};

@@ -12,6 +12,7 @@
 #include "meshlift/surface_fit.h"
 
 #include "meshlift/lifting.h"
+#include "vec3.h"
 
 
 #include <algorithm>
@@ -24,14 +25,11 @@
 namespace meshlift {
 namespace {
 
-using Vec = std::array<double, 3>;
-
-Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec cross(const Vec& a, const Vec& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec at(std::span<const double> x, std::uint32_t v) { return {x[3 * v], x[3 * v + 1], x[3 * v + 2]}; }
+using Vec = vec3::Vec3;
+using vec3::at;
+using vec3::cross;
+using vec3::dot;
+using vec3::sub;
 
 /// Runs body(begin, end) over [0, n) split into `threads` contiguous ranges.
 template <typename Body>

@@ -8,31 +8,15 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int exit_code;
-  std::string output;  // stdout and stderr together
-};
-
-Run run(const std::string& args) {
-  const std::string command = std::string(MESHLIFT_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-fs::path scratch() {
-  const fs::path dir = fs::temp_directory_path() / ("meshlift_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+using Run = meshlift::test::CliRun;
+Run run(const std::string& args) { return meshlift::test::run_cli(args); }
+fs::path scratch() { return meshlift::test::cli_scratch("cli_test"); }
 
 fs::path write_file(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;

@@ -5,27 +5,14 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <sys/wait.h>
+
+#include "cli_run.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int exit_code;
-  std::string output;
-};
-
-Run run(const std::string& args) {
-  const std::string command = std::string(MESHLIFT_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using meshlift::test::run_cli;
 
 /// A UV sphere with bumps (no subdivision connectivity: poles of valence `sides`), as OFF.
 fs::path write_bumpy_sphere(const fs::path& path, int rings = 24, int sides = 32) {
@@ -64,11 +51,10 @@ double psnr_in(const std::string& output) {
 }  // namespace
 
 TEST_CASE("remesh writes a level-ordered semi-regular mesh that encode takes over as it is", "[cli][remesh]") {
-  const fs::path dir = fs::temp_directory_path() / ("meshlift_remesh_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = meshlift::test::cli_scratch("remesh_cli");
   const fs::path in = write_bumpy_sphere(dir / "bumpy.off");
   const std::string out = (dir / "bumpy_sr.ply").string();
-  const auto remeshed = run("remesh " + in.string() + " -o " + out + " --levels 2 --binary");
+  const auto remeshed = run_cli("remesh " + in.string() + " -o " + out + " --levels 2 --binary");
   INFO(remeshed.output);
   REQUIRE(remeshed.exit_code == 0);
   CHECK_THAT(remeshed.output, Catch::Contains("decimation remesh"));
@@ -76,13 +62,13 @@ TEST_CASE("remesh writes a level-ordered semi-regular mesh that encode takes ove
   CHECK(psnr_in(remeshed.output) > 60);
   REQUIRE(fs::exists(out));
   // Its hierarchy comes back from the file: encode does not remesh it again.
-  const auto encoded = run("encode " + out + " -o " + (dir / "bumpy.mlz").string() + " --scheme butterfly");
+  const auto encoded = run_cli("encode " + out + " -o " + (dir / "bumpy.mlz").string() + " --scheme butterfly");
   INFO(encoded.output);
   REQUIRE(encoded.exit_code == 0);
   CHECK_THAT(encoded.output, Catch::Contains("already semi-regular"));
   CHECK_THAT(encoded.output, Catch::Contains("2 levels"));
   // The sphere remesher on the same closed genus-0 input: the octahedron refined twice.
-  const auto sphere = run("remesh " + in.string() + " -o " + (dir / "bumpy_sphere.ply").string() + " --method sphere --levels 3");
+  const auto sphere = run_cli("remesh " + in.string() + " -o " + (dir / "bumpy_sphere.ply").string() + " --method sphere --levels 3");
   INFO(sphere.output);
   REQUIRE(sphere.exit_code == 0);
   CHECK_THAT(sphere.output, Catch::Contains("sphere remesh: base 6, 3 levels, 258 vertices"));
@@ -90,23 +76,22 @@ TEST_CASE("remesh writes a level-ordered semi-regular mesh that encode takes ove
 }
 
 TEST_CASE("encode remeshes a mesh without subdivision connectivity and refuses bad input", "[cli][remesh]") {
-  const fs::path dir = fs::temp_directory_path() / ("meshlift_remesh_cli2_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = meshlift::test::cli_scratch("remesh_cli2");
   const fs::path in = write_bumpy_sphere(dir / "bumpy.off");
   const std::string mlz = (dir / "bumpy.mlz").string(), decoded = (dir / "decoded.ply").string();
-  const auto encoded = run("encode " + in.string() + " -o " + mlz + " --levels 2 --bpv 8 --scheme butterfly");
+  const auto encoded = run_cli("encode " + in.string() + " -o " + mlz + " --levels 2 --bpv 8 --scheme butterfly");
   INFO(encoded.output);
   REQUIRE(encoded.exit_code == 0);
   CHECK_THAT(encoded.output, Catch::Contains("decimation remesh"));
-  REQUIRE(run("decode " + mlz + " -o " + decoded).exit_code == 0);
-  const auto compared = run("compare " + in.string() + " " + decoded);
+  REQUIRE(run_cli("decode " + mlz + " -o " + decoded).exit_code == 0);
+  const auto compared = run_cli("compare " + in.string() + " " + decoded);
   INFO(compared.output);
   REQUIRE(compared.exit_code == 0);
   CHECK(psnr_in(compared.output) > 50);  // 8 bits per input vertex, against the original
   // The sphere remesher names why it cannot take an open mesh, and points to decimate.
   const fs::path open = dir / "open.off";
   std::ofstream(open) << "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
-  const auto refused = run("remesh " + open.string() + " -o " + (dir / "x.ply").string() + " --method sphere");
+  const auto refused = run_cli("remesh " + open.string() + " -o " + (dir / "x.ply").string() + " --method sphere");
   CHECK(refused.exit_code == 3);
   CHECK_THAT(refused.output, Catch::Contains("not closed"));
   CHECK_THAT(refused.output, Catch::Contains("decimate"));
