@@ -183,6 +183,8 @@ struct StreamArgs {
 
 
 int run_stream(const StreamArgs& a) {
+  if (!a.csv.empty() && !(check_distinct_output(a.input, a.csv) && (a.reference.empty() || check_distinct_output(a.reference, a.csv))))
+    return kOutputError;
   std::vector<std::uint8_t> file;
   if (!load_stream(a.input, file)) return kBadInput;
   if (!a.directory.empty()) {
@@ -206,15 +208,8 @@ int run_stream(const StreamArgs& a) {
     }
     reference = canonical_order(*recovered).positions;
   }
-  std::FILE* csv = nullptr;
-  if (!a.csv.empty()) {
-    csv = std::fopen(a.csv.c_str(), "w");
-    if (!csv) {
-      std::cerr << "meshlift: " << a.csv << ": cannot write the file\n";
-      return kOutputError;
-    }
-    std::fprintf(csv, "bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n");
-  }
+  // The CSV is collected and written once at the end, atomically like every other output.
+  std::string csv = "bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n";
   Decoder decoder;
   std::size_t written = 0;
   for (std::size_t at = 0; at < file.size();) {
@@ -233,7 +228,10 @@ int run_stream(const StreamArgs& a) {
     char name[64];
     std::snprintf(name, sizeof name, "prefix_%09zu.ply", at);
     if (!a.directory.empty()) {
-      if (!save_mesh((std::filesystem::path(a.directory) / name).string(), r.mesh, true)) return kOutputError;
+      const std::string path = (std::filesystem::path(a.directory) / name).string();
+      if (!check_distinct_output(a.input, path) || (!a.reference.empty() && !check_distinct_output(a.reference, path)))
+        return kOutputError;
+      if (!save_mesh(path, r.mesh, true)) return kOutputError;
       ++written;
     }
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
@@ -243,9 +241,17 @@ int run_stream(const StreamArgs& a) {
                  r.mesh.vertex_count(), r.bit_plane, r.complete ? ", complete" : "");
     if (!reference.empty()) std::fprintf(stderr, ", PSNR %.2f dB", psnr);
     std::fprintf(stderr, "\n");
-    if (csv) std::fprintf(csv, "%zu,%.4f,%zu,%d,%.3f\n", at, bpv, r.mesh.vertex_count(), r.bit_plane, psnr);
+    char row[128];
+    std::snprintf(row, sizeof row, "%zu,%.4f,%zu,%d,%.3f\n", at, bpv, r.mesh.vertex_count(), r.bit_plane, psnr);
+    csv += row;
   }
-  if (csv) std::fclose(csv);
+  if (!a.csv.empty()) {
+    std::string error;
+    if (!write_bytes(a.csv, std::vector<std::uint8_t>(csv.begin(), csv.end()), error)) {
+      std::cerr << "meshlift: " << error << "\n";
+      return kOutputError;
+    }
+  }
   if (!a.directory.empty()) std::fprintf(stderr, "%zu meshes written to %s\n", written, a.directory.c_str());
   return kOk;
 }

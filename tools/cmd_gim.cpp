@@ -86,6 +86,7 @@ int run_gim(const GimCommandOptions& options) {
                 p.check.coverage);
   std::cerr << "meshlift: " << options.input << ": " << line;
   try {
+    const DeferredSignals deferred;  // the image is written to a temporary file and renamed
     write_geometry_image(options.output, mesh_to_image(remesh.mesh));
   } catch (const MeshIOError& e) {
     std::cerr << "meshlift: " << e.what() << "\n";

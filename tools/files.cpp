@@ -1,5 +1,7 @@
 #include "files.h"
 
+#include <pthread.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +11,15 @@
 #include "meshlift/mesh_io.h"
 
 namespace meshlift::cli {
+
+DeferredSignals::DeferredSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&set, signal);
+  pthread_sigmask(SIG_BLOCK, &set, &previous_);
+}
+
+DeferredSignals::~DeferredSignals() { pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
 
 bool read_bytes(const std::string& path, std::vector<std::uint8_t>& bytes, std::string& error) {
   std::error_code ec;
@@ -26,6 +37,7 @@ bool read_bytes(const std::string& path, std::vector<std::uint8_t>& bytes, std::
 }
 
 bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes, std::string& error) {
+  const DeferredSignals deferred;
   const std::string temporary = path + ".tmp-" + std::to_string(std::random_device{}());
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
@@ -59,6 +71,7 @@ std::optional<PolygonMesh> load_mesh(const std::string& path) {
 namespace {
 template <class Mesh>
 bool save(const std::string& path, const Mesh& mesh, bool binary) {
+  const DeferredSignals deferred;  // write_mesh writes a temporary file and renames it
   try {
     write_mesh(path, mesh, binary);
     return true;

@@ -2,6 +2,8 @@
 // directory and are renamed into place, so a failed or interrupted run never leaves a partial file.
 #pragma once
 
+#include <signal.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -10,6 +12,22 @@
 #include "meshlift/mesh.h"
 
 namespace meshlift::cli {
+
+/// Holds back SIGINT, SIGTERM, SIGHUP and SIGQUIT for its lifetime. Outputs are written to a
+/// temporary file and renamed into place inside one of these (write_bytes and save_mesh do it
+/// themselves), so a signal that arrives meanwhile is delivered only after the rename, or after
+/// the temporary file was removed on failure: an interrupted run leaves the complete output or
+/// none, never a partial or temporary file. (SIGKILL cannot be held back.)
+class DeferredSignals {
+ public:
+  DeferredSignals();
+  ~DeferredSignals();
+  DeferredSignals(const DeferredSignals&) = delete;
+  DeferredSignals& operator=(const DeferredSignals&) = delete;
+
+ private:
+  sigset_t previous_;
+};
 
 /// Reads a whole file; returns false and sets `error` (one line) on failure.
 bool read_bytes(const std::string& path, std::vector<std::uint8_t>& bytes, std::string& error);
