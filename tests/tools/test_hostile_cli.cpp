@@ -192,7 +192,7 @@ TEST_CASE("CLI: malformed meshes give the documented message through info and en
   CHECK(s.temporaries().empty());
 }
 
-TEST_CASE("CLI: coordinates near the float limits encode and decode; beyond them nothing is written", "[cli][hostile]") {
+TEST_CASE("CLI: coordinates near the float limits round trip and beyond them nothing is written", "[cli][hostile]") {
   Scratch s("float_limits");
   // Near the largest and smallest normal floats: the codec keeps them finite.
   for (const char* scale : {"3e38", "1e-37"}) {
