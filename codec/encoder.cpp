@@ -107,6 +107,13 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   ContainerWriter writer;
   writer.add_chunk(kTagHeader, header.write());
   writer.add_chunk(kTagBaseMesh, base_mesh::encode_faces(h.triangles(0), h.vertex_count(0)));
+  // Nothing decodes without the whole header and base connectivity: a budget below them would
+  // give a file that only a cut inside its base chunk can produce, which reads as corrupt.
+  const std::size_t minimum = writer.size();
+  if (options.max_bytes < minimum)
+    throw MeshError("encode: a budget of " + std::to_string(options.max_bytes) +
+                    " bytes is below this mesh's smallest decodable stream, " + std::to_string(minimum) +
+                    " bytes (header and base mesh); raise the budget or use a smaller base");
   for (std::size_t offset = 0; offset < coefficients.size(); offset += kCoefficientChunkBytes)
     writer.add_chunk(kTagCoefficients,
                      std::span(coefficients).subspan(offset, std::min(kCoefficientChunkBytes, coefficients.size() - offset)));

@@ -167,6 +167,14 @@ int run_truncate(const TruncateArgs& a) {
               << "): " << describe(status) << "\n";
     return kBadInput;
   }
+  // A cut inside the header or base mesh chunks would re-frame them as complete but short chunks,
+  // which read as corrupt: refuse it (the streaming decoder shows nothing before them either).
+  if (const DecodeResult check = decode(cut); check.status != Status::ok && decode(file).status == Status::ok) {
+    std::cerr << "meshlift: " << a.input << ": a cut at " << a.bytes
+              << " bytes falls inside the header or the base mesh, before anything decodes; `meshlift info "
+              << a.input << "` lists the chunk sizes\n";
+    return kBadInput;
+  }
   std::string error;
   if (!write_bytes(a.output, cut, error)) {
     std::cerr << "meshlift: " << error << "\n";

@@ -116,6 +116,26 @@ TEST_CASE("encode to a byte budget gives a file within it", "[codec]") {
   const auto file = encode(mesh, options);
   CHECK(file.size() <= 3000);
   CHECK(decode(file).status == Status::ok);
+  // The smallest budget that decodes is the header and base mesh: at it the base comes back,
+  // one byte below it encode refuses (it used to write a file that read as corrupt).
+  EncodeOptions none;
+  none.max_bytes = 0;
+  std::size_t minimum = 0;
+  try {
+    encode(mesh, none);
+    FAIL("a zero-byte budget was accepted");
+  } catch (const MeshError& e) {
+    const std::string message = e.what();
+    const auto at = message.find("stream, ");
+    REQUIRE(at != std::string::npos);
+    minimum = std::stoul(message.substr(at + 8));
+  }
+  options.max_bytes = minimum;
+  const DecodeResult base = decode(encode(mesh, options));
+  CHECK(base.status == Status::ok);
+  CHECK(base.mesh.vertex_count() == mesh.positions.size() / 3);
+  options.max_bytes = minimum - 1;
+  CHECK_THROWS_AS(encode(mesh, options), MeshError);
 }
 
 TEST_CASE("streaming decoder: random chunk sizes give the prefix decodes", "[codec][stream]") {

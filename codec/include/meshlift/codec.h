@@ -20,7 +20,8 @@ struct EncodeOptions {
   /// Quantization step of the finest bit plane, as a power of two of the bounding-box diagonal:
   /// step = diagonal * 2^-precision_bits (in the normalized coefficient domain, see FORMAT.md).
   int precision_bits = 16;
-  /// Cut the embedded stream to at most this many bytes (whole file, headers included).
+  /// Cut the embedded stream to at most this many bytes (whole file, headers included). Below
+  /// the header and base mesh (the smallest stream that decodes), encode() throws MeshError.
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
 };
 
