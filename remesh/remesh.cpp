@@ -87,8 +87,15 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   if (options.levels < 0 || options.levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " +
                     std::to_string(options.levels));
-  const std::string problem = first_problem_for_triangle_codec(validate_mesh(mesh));
+  const MeshReport checked = validate_mesh(mesh);
+  const std::string problem = first_problem_for_triangle_codec(checked);
   if (!problem.empty()) throw MeshError(problem);
+  // A polygon soup (faces that share no vertex: unwelded triangles) is a valid mesh of many
+  // one- or two-face pieces, but nothing a remesh can make surfaces of: name it.
+  if (checked.connected_components > 1 && mesh.face_count() < 2 * checked.connected_components)
+    throw MeshError("polygon soup: " + std::to_string(mesh.face_count()) + " faces in " +
+                    std::to_string(checked.connected_components) +
+                    " separate pieces; weld the vertices that coincide so that faces share them, then remesh");
   auto report = [&](double fraction) {
     if (options.progress) options.progress(fraction);
   };

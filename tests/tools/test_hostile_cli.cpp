@@ -162,7 +162,7 @@ TEST_CASE("CLI: malformed meshes give the documented message through info and en
        "points.off: mesh has no faces"},
       {"soup.off",
        "OFF\n9 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 1\n0 1 1\n0 0 2\n1 0 2\n0 1 2\n3 0 1 2\n3 3 4 5\n3 6 7 8\n", 0,
-       "components:              3", "soup.off: 9 vertices -> decimation", 0},  // remeshed: a valid input
+       "components:              3", "soup.off: polygon soup: 3 faces in 3 separate pieces"},
       {"flipped.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 3 2\n", 0, "consistently oriented:   no",
        "flipped.off: 1 edge is traversed in the same direction by both faces: orientation is inconsistent (first: edge 0-2)"},
       {"flat.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 2 3 0\n", 0,
