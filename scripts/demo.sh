@@ -14,7 +14,7 @@ out="$root/out/demo"
 case "$build" in /*) ml="$build/meshlift" ;; *) ml="$root/$build/meshlift" ;; esac
 py=/usr/bin/python3
 meshes=(armadillo camel fandisk elephant)
-levels=4
+levels=3
 
 say() { echo "== $*"; }
 # Runs meshlift, echoing the command line; its stderr goes to the log file named first.

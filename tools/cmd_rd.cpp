@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "remesh_options.h"
 #include "files.h"
 #include "meshlift/codec.h"
 #include "meshlift/metric.h"
@@ -36,8 +37,7 @@ struct RdOptions {
   std::vector<std::string> inputs;
   std::vector<std::string> schemes{"linear", "butterfly", "loop"};
   std::vector<double> bpv{0.25, 0.5, 1, 2, 4, 8};
-  int levels = RemeshOptions{}.levels;  // the remesher's own default
-  std::size_t base_vertices = 0;
+  RemeshCliOptions remesh;  // --remesh, --levels, --base-vertices, --fit, as encode has them
   int bits = 16;
   bool separate = false;
   std::vector<int> draco_qp{6, 8, 10, 12, 14, 16};
@@ -338,10 +338,7 @@ class Sweep {
     std::optional<SemiRegularMesh> semi_regular;
     std::string remesh_error;
     try {
-      RemeshOptions remesh_options;
-      remesh_options.levels = options_.levels;
-      remesh_options.base_vertices = options_.base_vertices;
-      semi_regular = remesh(reference.mesh, remesh_options).mesh;
+      semi_regular = remesh(reference.mesh, to_remesh_options(options_.remesh)).mesh;
     } catch (const std::exception& e) {
       remesh_error = std::string("remesh: ") + e.what();
     }
@@ -512,9 +509,7 @@ void register_rd(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--levels", options->levels, "Refinement levels of the remesh")->check(CLI::Range(0, 12))->capture_default_str();
-  cmd->add_option("--base-vertices", options->base_vertices, "Base mesh vertices of the remesh (0: automatic)")
-      ->capture_default_str();
+  add_remesh_options(*cmd, options->remesh, "--remesh");
   cmd->add_option("--bits", options->bits,
                   "Finest quantization step diagonal*2^-B of the encodes (as `encode --bits`); the prefixes' "
                   "highest rate")

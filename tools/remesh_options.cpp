@@ -24,8 +24,7 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
       ->capture_default_str();
 }
 
-std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
-                                           const RemeshCliOptions& options) {
+RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
   RemeshOptions o;
   o.levels = options.levels;
   o.base_vertices = options.base_vertices;
@@ -33,6 +32,12 @@ std::optional<RemeshResult> remesh_for_cli(const std::string& path, const Polygo
   o.method = options.method == "sphere" ? RemeshMethod::sphere
              : options.method == "best" ? RemeshMethod::best
                                         : RemeshMethod::decimate;
+  return o;
+}
+
+std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
+                                           const RemeshCliOptions& options) {
+  RemeshOptions o = to_remesh_options(options);
   ProgressBar bar("remeshing");
   o.progress = [&bar](double f) { bar.update(f); };
   try {

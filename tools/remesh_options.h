@@ -20,6 +20,9 @@ struct RemeshCliOptions {
 /// --fit to `cmd`.
 void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::string& method_flag);
 
+/// The library options the command-line ones stand for (no progress callback).
+RemeshOptions to_remesh_options(const RemeshCliOptions& options);
+
 /// Remeshes `input` (read from `path`) with a progress bar; on failure prints
 /// `meshlift: PATH: problem` and returns nullopt.
 std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
