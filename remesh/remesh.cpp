@@ -5,8 +5,10 @@
 //                          the base vertices (seed 000);
 //   lifting.cpp, limit.cpp the guide: the Loop limit surface of those control points, sampled at
 //                          every vertex of the L-times refined base;
-//   surface_fit.cpp        coarse to fine, the new vertices of each level are projected from the
-//                          guide onto the input and spread evenly over it.
+//   surface_fit.cpp        coarse to fine, the new vertices of each level are placed on the
+//                          input by normal shooting from the guide (or the butterfly prediction
+//                          from the level below), and folded faces are untangled.
+//   (geometry_image.cpp    --method sphere: the octahedral spherical geometry image instead.)
 #include "meshlift/remesh.h"
 
 #include <algorithm>

@@ -1,7 +1,8 @@
 // Placing the vertices of a refined base mesh on the input surface (the fitting stage of
 // remeshing, CODEC-NOTES §5): coarse to fine, each new level's vertices start on a smooth guide
-// surface, are pulled onto the input by closest-point projection and spread evenly by
-// tangential smoothing; vertices of coarser levels stay where they were placed.
+// (or the butterfly prediction from the level below), are placed on the input by normal
+// shooting, and folded faces are untangled; vertices of coarser levels stay where they were
+// placed unless they are next to a fold. No fold-free guarantee: docs/RESULTS.md counts them.
 #pragma once
 
 #include <cstddef>
