@@ -11,33 +11,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_run.h"
 #include "meshlift/mesh_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct GimRun {
-  int exit_code;
-  std::string output;  // stdout and stderr together
-};
-
-GimRun run_gim(const std::string& args) {
-  const std::string command = std::string(MESHLIFT_CLI) + " gim " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-fs::path gim_scratch() {
-  const fs::path dir = fs::temp_directory_path() / ("meshlift_gim_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+meshlift::test::CliRun run_gim(const std::string& args) { return meshlift::test::run_cli("gim " + args); }
+std::filesystem::path gim_scratch() { return meshlift::test::cli_scratch("gim_test"); }
 
 /// An OFF octahedron with its vertices on the ellipsoid x²/4 + y² + z²/0.25 = 1, refined and
 /// pushed onto it (`levels` 1:4 splits): written by hand so the test needs no library call.

@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli_run.h"
 #include "meshlift/byte_io.h"
 #include "meshlift/container.h"
 
@@ -26,21 +27,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int exit_code;
-  std::string output;  // stdout and stderr together
-};
-
-Run run_cli(const std::string& args) {
-  const std::string command = std::string(MESHLIFT_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using Run = meshlift::test::CliRun;
+using meshlift::test::run_cli;
 
 /// A fresh directory per test case, removed afterwards.
 struct Scratch {
