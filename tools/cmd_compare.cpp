@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "json_text.h"
 #include "files.h"
 #include "meshlift/metric.h"
 
@@ -32,21 +33,6 @@ TriangleMesh fan_triangulated(const PolygonMesh& mesh) {
       result.triangles.insert(result.triangles.end(), {corners[0], corners[i], corners[i + 1]});
   }
   return result;
-}
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 /// JSON has no infinity: an infinite PSNR (identical surfaces) is written as null.
