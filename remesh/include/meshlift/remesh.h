@@ -52,8 +52,9 @@ struct RemeshResult {
   /// The remesher that made `mesh` (decimate or sphere; also when `best` chose).
   RemeshMethod method = RemeshMethod::decimate;
   std::size_t base_vertices = 0;
-  /// Triangles of the result whose normal points away (> 90°) from the input surface's normal
-  /// at their closest point, and triangles of zero area: both 0 in a good remesh.
+  /// Triangles of the result whose normal points away (> 90°) from the normal of the input face
+  /// closest to their centroid, and triangles of zero area (surface_fit.h: find_fold_overs):
+  /// both 0 in a good remesh; docs/RESULTS.md counts them on the corpus.
   std::size_t flipped_triangles = 0;
   std::size_t degenerate_triangles = 0;
 };
@@ -65,7 +66,9 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels);
 
 /// The semi-regular remesh of `mesh`.
 /// \throw MeshError if the input is not a manifold, consistently oriented triangle mesh with
-///        finite coordinates (validate.h's message), or an option is out of range.
+///        finite coordinates (validate.h's message), is a polygon soup (fewer than 2 faces per
+///        connected piece), is unsuitable for `sphere` (not closed, genus 0 and in one piece),
+///        or an option is out of range.
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options = {});
 
 /// Recovers the hierarchy of a mesh that has subdivision connectivity — a 1:4 refinement of
