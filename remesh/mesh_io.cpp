@@ -239,22 +239,37 @@ std::string off_count_problem(const std::string& path, std::uintmax_t size) {
   const std::string prefix = header.substr(0, off_at == std::string::npos ? 0 : off_at);
   const bool normals = prefix.find('N') != std::string::npos;
   const bool colors = prefix.find('C') != std::string::npos;
-  long long vertices = -1, faces = -1;
-  if (!(in >> vertices >> faces) || vertices < 0 || faces < 0)
+  // The counts line "V F E" and then one line per vertex, blank lines skipped: the reader takes
+  // each vertex from its own line, so its coordinates (and with N its normal) must all be on it,
+  // or the reader and this scan would disagree about where the faces start (a NOFF file without
+  // normals made OpenMesh read a coordinate as 4e9 corners and loop; found by fuzz_read_off).
+  auto next_line = [&in](std::string& line) {
+    do std::getline(in, line);
+    while (in.good() && line.find_first_not_of(" \t\r") == std::string::npos);
+  };
+  std::string counts;
+  next_line(counts);
+  std::istringstream count_numbers(counts);
+  long long vertices = -1, faces = -1, edges = -1;
+  if (!(count_numbers >> vertices >> faces) || vertices < 0 || faces < 0)
     return "OFF header has no vertex and face counts";
+  if (!(count_numbers >> edges)) return "OFF counts line has no edge count (expected \"V F E\" on one line)";
   if (std::uintmax_t(vertices) > size || std::uintmax_t(faces) > size)
     return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
            " faces, more than the file's " + std::to_string(size) + " bytes";
   std::string rest;
-  in >> rest;  // edge count, unused
   for (long long v = 0; v < vertices && in.good(); ++v) {
+    std::string line;
+    next_line(line);
+    std::istringstream numbers(line);
     float x, y, z;
-    in >> x >> y >> z;
+    numbers >> x >> y >> z;
     // The reader parses floats with operator>>, which stops at "nan", "inf" or any other text
     // and then reads garbage: name the vertex instead.
-    if (!in) return "vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number";
-    if (normals) in >> x >> y >> z;
-    std::getline(in, rest);
+    if (!numbers) return "vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number";
+    if (normals && !(numbers >> x >> y >> z))
+      return "vertex " + std::to_string(v) + " has no normal on its line, though the header (" + prefix +
+             "OFF) says vertices have normals";
   }
   unsigned int corners = static_cast<unsigned int>(vertices);
   for (long long f = 0; f < faces && in.good(); ++f) {
