@@ -227,6 +227,24 @@ std::string random_suffix() {
 // file the way the readers do and reject any count larger than the file; every smaller count
 // is then bounded by FlatImporter's element caps. An OFF/PLY file without such counts passes.
 
+/// The face section of an OFF file as OpenMesh reads it (both readings below end with it): per
+/// face "n i_1 .. i_n" [rest of line when the header has C]; n is read into an unsigned int that
+/// keeps its previous value when the read fails, as in OpenMesh's reader.
+std::string off_faces_problem(std::istream& in, long long vertices, long long faces, bool colors, std::uintmax_t size) {
+  std::string rest;
+  unsigned int corners = static_cast<unsigned int>(vertices);
+  for (long long f = 0; f < faces && in.good(); ++f) {
+    in >> corners;
+    if (corners > size)
+      return "face " + std::to_string(f) + " claims " + std::to_string(corners) + " corners, more than the file's " +
+             std::to_string(size) + " bytes";
+    unsigned int index = 0;  // unsigned like OpenMesh's, so "4-17" splits the same way
+    for (unsigned int c = 0; c < corners && in.good(); ++c) in >> index;
+    if (colors) std::getline(in, rest);
+  }
+  return "";
+}
+
 /// OFF: header line, "V F E", V vertex lines (3 floats [3 normal floats] rest-of-line), then per
 /// face "n i_1 .. i_n" [rest of line when the header has C]; n is read into an unsigned int
 /// that keeps its previous value when the read fails, as in OpenMesh's reader.
@@ -256,17 +274,7 @@ std::string off_count_problem_tokens(const std::string& path, std::uintmax_t siz
     if (normals) in >> x >> y >> z;
     std::getline(in, rest);
   }
-  unsigned int corners = static_cast<unsigned int>(vertices);
-  for (long long f = 0; f < faces && in.good(); ++f) {
-    in >> corners;
-    if (corners > size)
-      return "face " + std::to_string(f) + " claims " + std::to_string(corners) + " corners, more than the file's " +
-             std::to_string(size) + " bytes";
-    unsigned int index = 0;  // unsigned like OpenMesh's, so "4-17" splits the same way
-    for (unsigned int c = 0; c < corners && in.good(); ++c) in >> index;
-    if (colors) std::getline(in, rest);
-  }
-  return "";
+  return off_faces_problem(in, vertices, faces, colors, size);
 }
 
 std::string off_count_problem_lines(const std::string& path, std::uintmax_t size) {
@@ -296,7 +304,6 @@ std::string off_count_problem_lines(const std::string& path, std::uintmax_t size
   if (std::uintmax_t(vertices) > size || std::uintmax_t(faces) > size)
     return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
            " faces, more than the file's " + std::to_string(size) + " bytes";
-  std::string rest;
   for (long long v = 0; v < vertices && in.good(); ++v) {
     std::string line;
     next_line(line);
@@ -310,17 +317,7 @@ std::string off_count_problem_lines(const std::string& path, std::uintmax_t size
       return "vertex " + std::to_string(v) + " has no normal on its line, though the header (" + prefix +
              "OFF) says vertices have normals";
   }
-  unsigned int corners = static_cast<unsigned int>(vertices);
-  for (long long f = 0; f < faces && in.good(); ++f) {
-    in >> corners;
-    if (corners > size)
-      return "face " + std::to_string(f) + " claims " + std::to_string(corners) + " corners, more than the file's " +
-             std::to_string(size) + " bytes";
-    unsigned int index = 0;  // unsigned like OpenMesh's, so "4-17" splits the same way
-    for (unsigned int c = 0; c < corners && in.good(); ++c) in >> index;
-    if (colors) std::getline(in, rest);
-  }
-  return "";
+  return off_faces_problem(in, vertices, faces, colors, size);
 }
 
 /// Both readings: fuzzing found inputs that only one of them catches (a counts line with extra
