@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "meshlift/mesh.h"
+#include "meshlift/semi_regular.h"
 
 namespace meshlift::test {
 
@@ -46,6 +47,21 @@ inline TriangleMesh icosahedron() {
   }
   m.triangles = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
                  3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  return m;
+}
+
+/// The icosahedron refined `levels` times by 1:4 midpoint splits, every vertex pushed onto the
+/// unit sphere after each split (20·4^levels faces).
+inline TriangleMesh icosphere(int levels) {
+  TriangleMesh m = icosahedron();
+  for (int level = 0; level < levels; ++level) {
+    m = refine_linear(m, 1).finest();
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+      double* p = &m.positions[3 * v];
+      const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+      for (int k = 0; k < 3; ++k) p[k] /= n;
+    }
+  }
   return m;
 }
 

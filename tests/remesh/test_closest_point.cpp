@@ -68,31 +68,6 @@ SurfacePoint brute_force_closest(const TriangleMesh& mesh, const Vec3& p) {
   return best;
 }
 
-/// 1:4 midpoint refinement projected to the unit sphere, `levels` times.
-TriangleMesh icosphere(int levels) {
-  TriangleMesh m = meshlift::test::icosahedron();
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
-    auto midpoint = [&](std::uint32_t u, std::uint32_t v) {
-      const auto key = std::minmax(u, v);
-      auto it = midpoints.find(key);
-      if (it != midpoints.end()) return it->second;
-      const Vec3 q = normalized(add(vertex(m, u), vertex(m, v)));
-      const auto index = static_cast<std::uint32_t>(m.vertex_count());
-      m.positions.insert(m.positions.end(), q.begin(), q.end());
-      midpoints[key] = index;
-      return index;
-    };
-    std::vector<std::uint32_t> faces;
-    for (std::size_t f = 0; f < m.face_count(); ++f) {
-      const std::uint32_t a = m.triangles[3 * f], b = m.triangles[3 * f + 1], c = m.triangles[3 * f + 2];
-      const std::uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-      faces.insert(faces.end(), {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca});
-    }
-    m.triangles = std::move(faces);
-  }
-  return m;
-}
 
 void check_against_brute_force(const TriangleMesh& mesh, int count, unsigned seed) {
   const SurfaceQuery query(mesh);
@@ -193,7 +168,7 @@ TEST_CASE("closest point on a degenerate triangle is the closest point of its se
 }
 
 TEST_CASE("SurfaceQuery equals brute force on a perturbed icosphere", "[closest_point]") {
-  const TriangleMesh sphere = meshlift::test::perturbed(icosphere(3), 0.01, 11);  // 1280 faces
+  const TriangleMesh sphere = meshlift::test::perturbed(meshlift::test::icosphere(3), 0.01, 11);  // 1280 faces
   check_against_brute_force(sphere, 3000, 1);
 }
 
@@ -204,7 +179,7 @@ TEST_CASE("SurfaceQuery equals brute force on a perturbed torus", "[closest_poin
 
 TEST_CASE("SurfaceQuery is exact far from the origin where float rounding is coarse", "[closest_point]") {
   // Translated by 1e4: a float ulp is ~1e-3 there, far above the perturbation's scale of detail.
-  TriangleMesh mesh = meshlift::test::perturbed(icosphere(2), 0.001, 13);
+  TriangleMesh mesh = meshlift::test::perturbed(meshlift::test::icosphere(2), 0.001, 13);
   for (std::size_t i = 0; i < mesh.positions.size(); i += 3) mesh.positions[i] += 1e4;
   const SurfaceQuery query(mesh);
   std::mt19937_64 rng(3);

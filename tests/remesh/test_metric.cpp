@@ -17,29 +17,6 @@ using meshlift::TriangleMesh;
 
 namespace {
 
-/// Icosahedron refined `levels` times by 1:4 midpoint splits, vertices pushed onto the unit sphere.
-TriangleMesh unit_sphere(int levels) {
-  TriangleMesh m = meshlift::test::icosahedron();
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
-    auto midpoint = [&](std::uint32_t u, std::uint32_t v) {
-      const auto key = std::minmax(u, v);
-      if (auto it = midpoints.find(key); it != midpoints.end()) return it->second;
-      double q[3], n = 0;
-      for (int k = 0; k < 3; ++k) q[k] = m.positions[3 * u + k] + m.positions[3 * v + k], n += q[k] * q[k];
-      for (int k = 0; k < 3; ++k) m.positions.push_back(q[k] / std::sqrt(n));
-      return midpoints[key] = static_cast<std::uint32_t>(m.vertex_count() - 1);
-    };
-    std::vector<std::uint32_t> faces;
-    for (std::size_t f = 0; f < m.face_count(); ++f) {
-      const std::uint32_t a = m.triangles[3 * f], b = m.triangles[3 * f + 1], c = m.triangles[3 * f + 2];
-      const std::uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-      faces.insert(faces.end(), {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca});
-    }
-    m.triangles = std::move(faces);
-  }
-  return m;
-}
 
 /// Smallest distance from the origin to a face's plane (the polyhedron's inradius).
 double inradius(const TriangleMesh& m) {
@@ -143,7 +120,7 @@ TEST_CASE("metric of a unit sphere mesh scaled by 1.01 is 0.01 within its polygo
   // f's plane, and no farther than 0.01 from x itself; a point inside is at least 0.01·h from the
   // scaled polyhedron's planes. So every distance lies in [0.01·h_min, 0.01], h_min the inradius
   // (0.9948 for 3 levels: the tolerance is the polygonal approximation's 0.5 %).
-  const TriangleMesh sphere = unit_sphere(3);
+  const TriangleMesh sphere = meshlift::test::icosphere(3);
   TriangleMesh scaled = sphere;
   for (double& x : scaled.positions) x *= 1.01;
   const double h = inradius(sphere);
@@ -200,7 +177,7 @@ TEST_CASE("metric estimate converges to the exact L2 distance of a tilted plane"
 }
 
 TEST_CASE("metric rejects empty meshes and warns on wildly different scales", "[metric]") {
-  const TriangleMesh sphere = unit_sphere(1);
+  const TriangleMesh sphere = meshlift::test::icosphere(1);
   REQUIRE_THROWS_WITH(surface_distance(TriangleMesh{}, sphere), Catch::Contains("reference mesh has no faces"));
   REQUIRE_THROWS_WITH(surface_distance(sphere, TriangleMesh{}), Catch::Contains("test mesh has no faces"));
   TriangleMesh broken = sphere;
