@@ -91,6 +91,7 @@ TriangleMesh SemiRegularMesh::mesh_at(int level, std::span<const double> values)
 SemiRegularMesh refine_linear(const TriangleMesh& base, int levels) {
   SemiRegularMesh m{SemiRegularHierarchy(
                         TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles), levels),
+                    {},
                     {}};
   m.positions = base.positions;
   m.positions.resize(3 * static_cast<std::size_t>(m.hierarchy.vertex_count(levels)));
@@ -129,7 +130,7 @@ std::optional<SemiRegularMesh> recover_level_ordered(const TriangleMesh& mesh) {
     try {
       SemiRegularHierarchy h(TriangleTopology::build(base_vertices, base), L);
       if (h.vertex_count(L) != vertices || h.triangles(L) != mesh.triangles) continue;
-      return SemiRegularMesh{std::move(h), mesh.positions};
+      return SemiRegularMesh{std::move(h), mesh.positions, {}};
     } catch (const MeshError&) {
     }
   }

@@ -255,7 +255,7 @@ std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh) {
       next[hierarchy.odd_vertex(j, e)] = split.odd(to_mesh[t.edge_vertices[2 * e]], to_mesh[t.edge_vertices[2 * e + 1]]);
     to_mesh = std::move(next);
   }
-  SemiRegularMesh result{std::move(hierarchy), std::vector<double>(3 * to_mesh.size())};
+  SemiRegularMesh result{std::move(hierarchy), std::vector<double>(3 * to_mesh.size()), {}};
   for (std::size_t v = 0; v < to_mesh.size(); ++v)
     for (int k = 0; k < 3; ++k) result.positions[3 * v + k] = mesh.positions[3 * std::size_t{to_mesh[v]} + k];
   return result;

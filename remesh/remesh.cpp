@@ -48,6 +48,7 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   SemiRegularMesh result_mesh{
       SemiRegularHierarchy(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles),
                            decimate_options.levels),
+      {},
       {}};
   const SemiRegularHierarchy& h = result_mesh.hierarchy;
   std::vector<double> subdivided(3 * static_cast<std::size_t>(h.vertex_count(h.levels())), 0.0);
