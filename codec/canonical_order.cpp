@@ -9,6 +9,11 @@ namespace meshlift {
 SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
   const SemiRegularHierarchy& old = mesh.hierarchy;
   const int L = old.levels();
+  const std::size_t V = old.vertex_count(L);
+  if (mesh.positions.size() != 3 * V) throw MeshError("canonical_order: positions do not match the hierarchy");
+  for (const VertexChannel& channel : mesh.channels)
+    if (channel.components < 1 || channel.values.size() != static_cast<std::size_t>(channel.components) * V)
+      throw MeshError("canonical_order: a channel's values do not match the hierarchy");
   const std::vector<std::uint32_t>& old_base = old.triangles(0);
   base_mesh::CodingOrder order;
   base_mesh::encode_faces(old_base, old.vertex_count(0), &order);
@@ -19,7 +24,7 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
   for (std::size_t k = 0; k < F; ++k)
     for (std::uint32_t i = 0; i < 3; ++i)
       base[3 * k + i] = order.label[old_base[3 * order.face[k] + (i + order.rotation[k]) % 3]];
-  SemiRegularMesh out{SemiRegularHierarchy(TriangleTopology::build(old.vertex_count(0), base), L), {}};
+  SemiRegularMesh out{SemiRegularHierarchy(TriangleTopology::build(old.vertex_count(0), base), L), {}, {}};
   const SemiRegularHierarchy& h = out.hierarchy;
 
   // old_vertex[v]: the old index of new vertex v, level by level. Face k of level j is old face
@@ -48,9 +53,15 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
     face_map = std::move(next_map);
     turn = std::move(next_turn);
   }
-  out.positions.resize(mesh.positions.size());
-  for (std::size_t v = 0; v < old_vertex.size(); ++v)
-    for (int c = 0; c < 3; ++c) out.positions[3 * v + c] = mesh.positions[3 * std::size_t{old_vertex[v]} + c];
+  auto reorder = [&](const std::vector<double>& values, int components) {
+    const std::size_t k = static_cast<std::size_t>(components);
+    std::vector<double> ordered(values.size());
+    for (std::size_t v = 0; v < old_vertex.size(); ++v)
+      for (std::size_t c = 0; c < k; ++c) ordered[k * v + c] = values[k * std::size_t{old_vertex[v]} + c];
+    return ordered;
+  };
+  out.positions = reorder(mesh.positions, 3);
+  for (const VertexChannel& channel : mesh.channels) out.channels.push_back({channel.components, reorder(channel.values, channel.components)});
   return out;
 }
 

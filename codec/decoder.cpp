@@ -6,6 +6,7 @@
 #include <new>
 
 #include "base_mesh_coder.h"
+#include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "stream_header.h"
@@ -111,7 +112,10 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     return failure(Status::limit_exceeded, "the stream refines to " + std::to_string(static_cast<std::uint64_t>(vertices)) +
                                                " vertices (limit " + std::to_string(options.limits.max_vertices) + ")");
   // max_vertices <= 2^64 / kDecodeBytesPerVertex is not assumed: compare in double.
-  const double memory = static_cast<double>(kDecodeBytesPerVertex) * std::max(vertices, refined.faces / 2);
+  const int K = header.components();
+  const double per_vertex = static_cast<double>(kDecodeBytesPerVertex) +
+                            static_cast<double>(kDecodeBytesPerChannelComponent) * (K - zerotree::kGeometryComponents);
+  const double memory = per_vertex * std::max(vertices, refined.faces / 2);
   if (memory > static_cast<double>(options.limits.max_memory_bytes))
     return failure(Status::limit_exceeded, "decoding " + std::to_string(static_cast<std::uint64_t>(vertices)) +
                                                " vertices may take " + std::to_string(static_cast<std::uint64_t>(memory)) +
@@ -121,27 +125,57 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
   try {
     const SemiRegularHierarchy h(std::move(base), header.levels);
     RangeDecoder decoder(stream.coefficients);
-    const zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), header.top_plane, decoder);
+    const zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
 
-    // Dequantize: value = midpoint * step / w_j, then the centre back on the base values.
+    // Dequantize: value = midpoint * step_c / w_j (FORMAT.md §5).
     const int L = header.levels;
-    std::vector<double> values(std::size_t{h.vertex_count(L)} * 3);
-    for (int j = 0, v = 0; j <= L; ++j)
-      for (; v < static_cast<int>(h.vertex_count(j)); ++v)
-        for (int k = 0; k < 3; ++k) {
-          const std::size_t i = 3 * static_cast<std::size_t>(v) + k;
-          values[i] = decoded.value(i) * header.step / header.level_weights[j];
-        }
-    for (std::uint32_t v = 0; v < h.vertex_count(0); ++v)
-      for (int k = 0; k < 3; ++k) values[3 * v + k] += header.center[k];
+    const std::size_t k_stride = static_cast<std::size_t>(K);
+    std::vector<double> base_step(k_stride), detail_step(k_stride);
+    for (int c = 0; c < K; ++c) {
+      base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
+      detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
+    }
+    std::vector<double> values(std::size_t{h.vertex_count(L)} * k_stride);
+    for (int j = 0; j <= L; ++j)
+      for (std::size_t i = k_stride * (j == 0 ? 0 : h.vertex_count(j - 1)); i < k_stride * h.vertex_count(j); ++i)
+        values[i] = zerotree::dequantize(decoded.value(i), (j == 0 ? base_step : detail_step)[i % k_stride],
+                                         header.level_weights[j]);
 
     DecodeResult result;
     result.levels = L;
     result.level = options.max_level < 0 ? L : std::min(options.max_level, L);
     const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
-    transform.synthesize(values, 3, result.level);
-    values.resize(std::size_t{h.vertex_count(result.level)} * 3);
-    result.mesh.positions = std::move(values);
+    if (header.local_frames) {
+      // Level by level: the details of level j + 1 are in the frames of the level-j mesh just
+      // synthesized (encoder.cpp computes them from the same values at full rate).
+      for (int j = 0; j < result.level; ++j) {
+        frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
+        transform.synthesize(values, K, j + 1, j);
+      }
+    } else {
+      transform.synthesize(values, K, result.level);
+    }
+    // The centres back (synthesis reproduces constants, so adding them after it is adding them
+    // to the base values; the encoder's closed loop works on the centred values too).
+    const std::uint32_t n = h.vertex_count(result.level);
+    if (K == zerotree::kGeometryComponents) {  // in place: no second copy at the peak
+      for (std::size_t i = 0; i < std::size_t{n} * 3; ++i) values[i] += header.center[i % 3];
+      values.resize(std::size_t{n} * 3);
+      result.mesh.positions = std::move(values);
+    } else {
+      result.mesh.positions.resize(std::size_t{n} * 3);
+      for (std::uint32_t v = 0; v < n; ++v)
+        for (int k = 0; k < 3; ++k) result.mesh.positions[3 * std::size_t{v} + k] = values[k_stride * v + k] + header.center[k];
+    }
+    std::size_t offset = zerotree::kGeometryComponents;
+    for (const StreamHeader::Channel& c : header.channels) {
+      const std::size_t m = static_cast<std::size_t>(c.components);
+      VertexChannel channel{c.components, std::vector<double>(std::size_t{n} * m)};
+      for (std::uint32_t v = 0; v < n; ++v)
+        for (std::size_t k = 0; k < m; ++k) channel.values[m * v + k] = values[k_stride * v + offset + k] + c.center[k];
+      offset += m;
+      result.channels.push_back(std::move(channel));
+    }
     result.mesh.triangles = h.triangles(result.level);
     result.bit_plane = decoded.last_plane;
     result.bytes_used = prefix.size();
@@ -173,6 +207,9 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
   info.step = h.step;
   info.level_weights = h.level_weights;
   info.top_plane = h.top_plane;
+  info.local_frames = h.local_frames;
+  info.tangent_shift = h.tangent_shift;
+  for (const StreamHeader::Channel& c : h.channels) info.channels.push_back({c.components, c.step});
   if (r.status == Status::ok) {
     std::vector<std::uint32_t> triangles;
     if (base_mesh::decode_faces(stream.base->payload, h.base_vertices, h.base_faces, triangles)) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base_mesh_coder.h"
+#include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "stream_header.h"
@@ -45,8 +46,26 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   if (V >= (std::uint32_t{1} << 31)) throw MeshError("encode: too many vertices");
   if (options.precision_bits < 1 || options.precision_bits > 40)
     throw MeshError("encode: precision_bits must be between 1 and 40");
+  if (options.local_frames && (options.tangent_shift < 0 || options.tangent_shift > 16))
+    throw MeshError("encode: tangent_shift must be between 0 and 16");
   for (double x : input.positions)
     if (!std::isfinite(x)) throw MeshError("encode: a vertex coordinate is NaN or infinite");
+  if (!input.channels.empty()) {
+    if (input.channels.size() > 4) throw MeshError("encode: at most 4 extra channels");
+    if (options.channel_precision_bits < 1 || options.channel_precision_bits > 40)
+      throw MeshError("encode: channel_precision_bits must be between 1 and 40");
+    int total = 0;
+    for (const VertexChannel& c : input.channels) {
+      total += c.components;
+      if (c.components < 1 || total > zerotree::kMaxChannelComponents)
+        throw MeshError("encode: extra channels may have " + std::to_string(zerotree::kMaxChannelComponents) +
+                        " components together, at least 1 each");
+      if (c.values.size() != std::size_t{V} * static_cast<std::size_t>(c.components))
+        throw MeshError("encode: a channel's values do not match the hierarchy");
+      for (double x : c.values)
+        if (!std::isfinite(x)) throw MeshError("encode: a channel value is NaN or infinite");
+    }
+  }
   std::vector<char> used(given.vertex_count(0), 0);
   for (std::uint32_t v : given.triangles(0)) used[v] = 1;
   if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
@@ -61,6 +80,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   header.levels = L;
   header.base_vertices = h.vertex_count(0);
   header.base_faces = static_cast<std::uint32_t>(h.topology(0).face_count());
+  header.local_frames = options.local_frames;
+  header.tangent_shift = options.local_frames ? options.tangent_shift : 0;
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
     lo[k] = hi[k] = mesh.positions[k];
@@ -73,31 +94,86 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   double diagonal = bounding_box_diagonal(mesh.positions);
   if (!(diagonal > 0)) diagonal = 1.0;
   header.step = std::ldexp(diagonal, -options.precision_bits);
+  // Each channel: centred on the middle of each component's range, one step for all its
+  // components from the widest range.
+  for (const VertexChannel& c : mesh.channels) {
+    StreamHeader::Channel hc;
+    hc.components = c.components;
+    double range = 0;
+    for (int k = 0; k < c.components; ++k) {
+      double low = c.values[static_cast<std::size_t>(k)], high = low;
+      for (std::uint32_t v = 0; v < V; ++v) {
+        const double x = c.values[std::size_t{v} * static_cast<std::size_t>(c.components) + static_cast<std::size_t>(k)];
+        low = std::min(low, x);
+        high = std::max(high, x);
+      }
+      hc.center.push_back(0.5 * (low + high));
+      range = std::max(range, high - low);
+    }
+    hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
+    header.channels.push_back(std::move(hc));
+  }
 
-  // Analysis of the centred positions: base values at [0, V0), details at the odd vertices.
+  // Analysis of the centred values, K per vertex (geometry, then the channels): base values at
+  // [0, V0), details at the odd vertices.
+  const int K = header.components();
+  const std::size_t k_stride = static_cast<std::size_t>(K);
   const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
-  std::vector<double> values(mesh.positions.size());
-  for (std::uint32_t v = 0; v < V; ++v)
-    for (int k = 0; k < 3; ++k) values[3 * v + k] = mesh.positions[3 * v + k] - header.center[k];
-  transform.analyze(values);
+  std::vector<double> values(std::size_t{V} * k_stride);
+  for (std::uint32_t v = 0; v < V; ++v) {
+    double* out = &values[k_stride * v];
+    for (int k = 0; k < 3; ++k) *out++ = mesh.positions[3 * v + k] - header.center[k];
+    for (std::size_t c = 0; c < mesh.channels.size(); ++c) {
+      const std::size_t n = static_cast<std::size_t>(mesh.channels[c].components);
+      for (std::size_t k = 0; k < n; ++k) *out++ = mesh.channels[c].values[n * v + k] - header.channels[c].center[k];
+    }
+  }
+  transform.analyze(values, K);
   header.level_weights = level_weights(h, transform);
 
-  // Quantization: magnitude = floor(|c w_j| / step) (a dead-zone quantizer; the decoder
+  // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
+  std::vector<double> base_step(k_stride), detail_step(k_stride);
+  for (int c = 0; c < K; ++c) {
+    base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
+    detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
+  }
   zerotree::Quantized q;
+  q.components = K;
   q.magnitude.resize(values.size());
   q.negative.resize(values.size());
-  for (int j = 0, v = 0; j <= L; ++j)
-    for (; v < static_cast<int>(h.vertex_count(j)); ++v)
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t i = 3 * static_cast<std::size_t>(v) + k;
-        const double scaled = std::abs(values[i]) * header.level_weights[j] / header.step;
-        if (scaled >= 2147483648.0)
-          throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) +
-                          " is too fine for " + std::to_string(L) + " levels; use fewer bits");
-        q.magnitude[i] = static_cast<std::uint32_t>(scaled);
-        q.negative[i] = values[i] < 0 && q.magnitude[i] > 0;
+  // Quantizes the coefficients of the vertices of level j; if `reconstruction` is given, writes
+  // there what the decoder will reconstruct from them at full rate.
+  auto quantize_level = [&](int j, double* reconstruction) {
+    for (std::size_t i = k_stride * (j == 0 ? 0 : h.vertex_count(j - 1)); i < k_stride * h.vertex_count(j); ++i) {
+      const double step = (j == 0 ? base_step : detail_step)[i % k_stride];
+      const double scaled = std::abs(values[i]) * header.level_weights[j] / step;
+      if (scaled >= 2147483648.0)
+        throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
+                        std::to_string(L) + " levels; use fewer bits");
+      q.magnitude[i] = static_cast<std::uint32_t>(scaled);
+      q.negative[i] = values[i] < 0 && q.magnitude[i] > 0;
+      if (reconstruction != nullptr) {
+        const double mid = q.magnitude[i] == 0 ? 0.0 : static_cast<double>(q.magnitude[i]) + 0.5;  // Decoded::value
+        reconstruction[i] = zerotree::dequantize(q.negative[i] ? -mid : mid, step, header.level_weights[j]);
       }
+    }
+  };
+  if (!header.local_frames) {
+    for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
+  } else {
+    // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
+    // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
+    // sides rotate by the same frames bit for bit.
+    std::vector<double> decoded(values.size(), 0.0);
+    quantize_level(0, decoded.data());
+    for (int j = 0; j < L; ++j) {
+      frames::rotate_details(h, j, decoded, values, K, frames::Direction::to_local);
+      quantize_level(j + 1, decoded.data());
+      frames::rotate_details(h, j, decoded, decoded, K, frames::Direction::to_global);
+      transform.synthesize(decoded, K, j + 1, j);
+    }
+  }
   header.top_plane = zerotree::top_plane(q);
 
   RangeEncoder coefficient_encoder;

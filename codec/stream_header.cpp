@@ -4,18 +4,43 @@
 #include <cmath>
 
 #include "meshlift/byte_io.h"
+#include "zerotree_coder.h"
 
 namespace meshlift {
 namespace {
 constexpr std::uint8_t kFlagUpdate = 1;
+constexpr std::uint8_t kFlagLocalFrames = 2;
+constexpr std::uint8_t kFlagChannels = 4;
+constexpr std::uint8_t kKnownFlags = kFlagUpdate | kFlagLocalFrames | kFlagChannels;
+constexpr int kMaxTangentShift = 16;
+constexpr int kMaxChannels = 4;
+}  // namespace
+
+int StreamHeader::components() const {
+  int k = zerotree::kGeometryComponents;
+  for (const Channel& c : channels) k += c.components;
+  return k;
+}
+
+double StreamHeader::component_step(int c, int level) const {
+  if (c < zerotree::kGeometryComponents) return c > 0 && level > 0 && local_frames ? std::ldexp(step, tangent_shift) : step;
+  c -= zerotree::kGeometryComponents;
+  for (const Channel& channel : channels) {
+    if (c < channel.components) return channel.step;
+    c -= channel.components;
+  }
+  return step;  // not reached for c < components()
 }
 
 // Layout (FORMAT.md §3): u8 scheme, u8 flags, u8 levels, u8 top_plane + 1, varint base vertices,
-// varint base faces, f64 step, 3 x f64 center, (levels + 1) x f64 level weights.
+// varint base faces, f64 step, 3 x f64 center, (levels + 1) x f64 level weights; if flag bit 1,
+// u8 tangent_shift; if flag bit 2, u8 channel count, then per channel u8 components, f64 step,
+// components x f64 center.
 std::vector<std::uint8_t> StreamHeader::write() const {
   ByteWriter w;
   w.u8(static_cast<std::uint8_t>(scheme));
-  w.u8(mean_preserving_update ? kFlagUpdate : 0);
+  w.u8(static_cast<std::uint8_t>((mean_preserving_update ? kFlagUpdate : 0) | (local_frames ? kFlagLocalFrames : 0) |
+                                 (channels.empty() ? 0 : kFlagChannels)));
   w.u8(static_cast<std::uint8_t>(levels));
   w.u8(static_cast<std::uint8_t>(top_plane + 1));
   w.varint(base_vertices);
@@ -23,6 +48,15 @@ std::vector<std::uint8_t> StreamHeader::write() const {
   w.u64(std::bit_cast<std::uint64_t>(step));
   for (double c : center) w.u64(std::bit_cast<std::uint64_t>(c));
   for (double weight : level_weights) w.u64(std::bit_cast<std::uint64_t>(weight));
+  if (local_frames) w.u8(static_cast<std::uint8_t>(tangent_shift));
+  if (!channels.empty()) {
+    w.u8(static_cast<std::uint8_t>(channels.size()));
+    for (const Channel& c : channels) {
+      w.u8(static_cast<std::uint8_t>(c.components));
+      w.u64(std::bit_cast<std::uint64_t>(c.step));
+      for (double x : c.center) w.u64(std::bit_cast<std::uint64_t>(x));
+    }
+  }
   return w.take();
 }
 
@@ -44,7 +78,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
     message = "unknown wavelet scheme " + std::to_string(scheme_byte);
     return Status::corrupt;
   }
-  if (flags & ~kFlagUpdate) {
+  if (flags & ~kKnownFlags) {
     message = "reserved header flag bits set";
     return Status::reserved_bits_set;
   }
@@ -68,6 +102,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   }
   scheme = static_cast<Scheme>(scheme_byte);
   mean_preserving_update = flags & kFlagUpdate;
+  local_frames = flags & kFlagLocalFrames;
   levels = levels_byte;
   top_plane = static_cast<int>(plane_byte) - 1;
   base_vertices = static_cast<std::uint32_t>(vertices);
@@ -81,6 +116,43 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   for (double& c : center) read_double(c);
   level_weights.resize(static_cast<std::size_t>(levels) + 1);
   for (double& weight : level_weights) read_double(weight);
+  tangent_shift = 0;
+  if (local_frames) {
+    std::uint8_t shift = 0;
+    r.u8(shift);
+    if (r.ok() && shift > kMaxTangentShift) {
+      message = "header claims a tangent shift of " + std::to_string(shift) + " (at most " +
+                std::to_string(kMaxTangentShift) + ")";
+      return Status::corrupt;
+    }
+    tangent_shift = shift;
+  }
+  channels.clear();
+  if (flags & kFlagChannels) {
+    std::uint8_t count = 0;
+    r.u8(count);
+    if (r.ok() && (count < 1 || count > kMaxChannels)) {
+      message = "header claims " + std::to_string(count) + " channels (1 to " + std::to_string(kMaxChannels) + ")";
+      return Status::corrupt;
+    }
+    int total = 0;
+    for (int i = 0; i < count && r.ok(); ++i) {
+      std::uint8_t components = 0;
+      r.u8(components);
+      total += components;
+      if (r.ok() && (components < 1 || total > zerotree::kMaxChannelComponents)) {
+        message = "header channel " + std::to_string(i) + " has " + std::to_string(components) +
+                  " components (all channels together: 1 to " + std::to_string(zerotree::kMaxChannelComponents) + ")";
+        return Status::corrupt;
+      }
+      Channel c;
+      c.components = components;
+      read_double(c.step);
+      c.center.resize(components);
+      for (double& x : c.center) read_double(x);
+      channels.push_back(std::move(c));
+    }
+  }
   if (!r.ok()) {
     message = "header chunk too short for its quantization parameters";
     return Status::corrupt;
@@ -88,6 +160,10 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   bool finite = std::isfinite(step) && step > 0;
   for (double c : center) finite = finite && std::isfinite(c);
   for (double weight : level_weights) finite = finite && std::isfinite(weight) && weight > 0;
+  for (const Channel& c : channels) {
+    finite = finite && std::isfinite(c.step) && c.step > 0;
+    for (double x : c.center) finite = finite && std::isfinite(x);
+  }
   if (!finite) {
     message = "header holds a non-finite or non-positive quantization parameter";
     return Status::corrupt;

@@ -21,6 +21,24 @@ struct StreamHeader {
   double step = 1.0;  ///< quantization step of plane 0, normalized coefficient domain
   std::array<double, 3> center{};
   std::vector<double> level_weights;  ///< levels + 1 synthesis-basis norms
+  /// Geometry details in local frames (local_frames.h), tangential components quantized with
+  /// step * 2^tangent_shift (flag bit 1).
+  bool local_frames = false;
+  int tangent_shift = 0;
+  /// Extra per-vertex channels (flag bit 2): components, step, centre per component.
+  struct Channel {
+    int components = 1;
+    double step = 1.0;
+    std::vector<double> center;
+  };
+  std::vector<Channel> channels;
+
+  /// Components coded per vertex: 3 + the channels' components.
+  int components() const;
+  /// Quantization step of component c of a vertex of `level` (geometry x/y/z, and the normal of
+  /// a detail: step; the tangents of a detail (level > 0) in local frames: step * 2^tangent_shift;
+  /// channel components: their channel's step).
+  double component_step(int c, int level) const;
 
   std::vector<std::uint8_t> write() const;
   /// Parses and validates a HEAD payload against `limits`; on failure returns the status and

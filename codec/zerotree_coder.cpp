@@ -1,6 +1,7 @@
 #include "zerotree_coder.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace meshlift::zerotree {
 
@@ -39,11 +40,11 @@ constexpr int kLevelContexts = kMaxLevels + 1;
 constexpr std::uint32_t kRemoved = 0xffffffffu;
 
 struct Models {
-  BitModel lip[kLevelContexts][kComponents];
-  BitModel child[kLevelContexts][kComponents][4];  // by how many siblings were significant before
-  BitModel set_descendants[kLevelContexts][kComponents];
-  BitModel set_grandchildren[kLevelContexts][kComponents];
-  BitModel refine[kLevelContexts][kComponents];
+  BitModel lip[kLevelContexts][kMaxComponents];
+  BitModel child[kLevelContexts][kMaxComponents][4];  // by how many siblings were significant before
+  BitModel set_descendants[kLevelContexts][kMaxComponents];
+  BitModel set_grandchildren[kLevelContexts][kMaxComponents];
+  BitModel refine[kLevelContexts][kMaxComponents];
 };
 
 struct Lists {
@@ -61,9 +62,9 @@ struct Lists {
 //   grandchild significant? If so, every child with children joins the LIS as type A.
 //   Refinement pass: bit n of every coefficient that was significant before this plane.
 template <class Io>
-bool run(const Forest& f, int top, Io& io) {
+bool run(const Forest& f, int components, int top, Io& io) {
   Models models;
-  Lists lists[kComponents];
+  std::vector<Lists> lists(static_cast<std::size_t>(components));
   for (auto& l : lists) {
     l.insignificant_pixels.resize(f.roots);
     for (std::uint32_t v = 0; v < f.roots; ++v) {
@@ -78,8 +79,8 @@ bool run(const Forest& f, int top, Io& io) {
   auto has_grandchildren = [&](std::uint32_t v) { return has_children(v) && f.level[v] + 2 <= finest; };
   for (int n = top; n >= 0; --n) {
     io.begin_plane(n);
-    for (int c = 0; c < kComponents; ++c) {
-      Lists& l = lists[c];
+    for (int c = 0; c < components; ++c) {
+      Lists& l = lists[static_cast<std::size_t>(c)];
       const std::size_t refine_count = l.significant.size();
       auto newly_significant = [&](std::uint32_t v) {
         if (io.sign(v, c) < 0) return false;
@@ -147,7 +148,7 @@ bool run(const Forest& f, int top, Io& io) {
 
 class EncoderIo {
  public:
-  EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder) : q_(q), encoder_(encoder) {
+  EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder) : q_(q), encoder_(encoder), k_(q.components) {
     // Bottom-up maxima: descendants[v] = max |c| over D(v), grandchildren[v] over L(v) = D(v)
     // minus the children. Children always have larger indices than their parent.
     const std::size_t n = q.magnitude.size();
@@ -156,8 +157,8 @@ class EncoderIo {
     for (std::uint32_t v = f.vertex_count(); v-- > 0;)
       for (std::uint32_t k = f.child_offsets[v]; k < f.child_offsets[v + 1]; ++k) {
         const std::uint32_t child = f.children[k];
-        for (int c = 0; c < kComponents; ++c) {
-          const std::size_t pv = std::size_t{v} * kComponents + c, pc = std::size_t{child} * kComponents + c;
+        for (int c = 0; c < k_; ++c) {
+          const std::size_t pv = index(v, c), pc = index(child, c);
           descendants_[pv] = std::max({descendants_[pv], q.magnitude[pc], descendants_[pc]});
           grandchildren_[pv] = std::max(grandchildren_[pv], descendants_[pc]);
         }
@@ -180,15 +181,16 @@ class EncoderIo {
   bool magnitude_bit(std::uint32_t v, int c, int n) const { return (q_.magnitude[index(v, c)] >> n) & 1; }
 
  private:
-  static std::size_t index(std::uint32_t v, int c) { return std::size_t{v} * kComponents + c; }
+  std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * static_cast<std::size_t>(k_) + static_cast<std::size_t>(c); }
   const Quantized& q_;
   RangeEncoder& encoder_;
+  int k_;
   std::vector<std::uint32_t> descendants_, grandchildren_;
 };
 
 class DecoderIo {
  public:
-  DecoderIo(RangeDecoder& decoder, Decoded& out) : decoder_(decoder), out_(out) {}
+  DecoderIo(RangeDecoder& decoder, Decoded& out) : decoder_(decoder), out_(out), k_(out.components) {}
   void begin_plane(int n) { out_.last_plane = n; }
   int bit(BitModel& m, bool) {
     const int b = decoder_.decode(m);
@@ -214,26 +216,30 @@ class DecoderIo {
   bool magnitude_bit(std::uint32_t, int, int) const { return false; }
 
  private:
-  static std::size_t index(std::uint32_t v, int c) { return std::size_t{v} * kComponents + c; }
+  std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * static_cast<std::size_t>(k_) + static_cast<std::size_t>(c); }
   RangeDecoder& decoder_;
   Decoded& out_;
+  int k_;
 };
 
 }  // namespace
 
 void encode(const Forest& forest, const Quantized& q, int top, RangeEncoder& encoder) {
+  if (q.components < 1 || q.components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   EncoderIo io(forest, q, encoder);
-  if (top >= 0) run(forest, top, io);
+  if (top >= 0) run(forest, q.components, top, io);
 }
 
-Decoded decode(const Forest& forest, int top, RangeDecoder& decoder) {
+Decoded decode(const Forest& forest, int components, int top, RangeDecoder& decoder) {
+  if (components < 1 || components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   Decoded out;
-  const std::size_t n = std::size_t{forest.vertex_count()} * kComponents;
+  out.components = components;
+  const std::size_t n = std::size_t{forest.vertex_count()} * static_cast<std::size_t>(components);
   out.known.assign(n, 0);
   out.low_plane.assign(n, 0);
   out.negative.assign(n, 0);
   DecoderIo io(decoder, out);
-  out.complete = top < 0 || run(forest, top, io);
+  out.complete = top < 0 || run(forest, components, top, io);
   return out;
 }
 

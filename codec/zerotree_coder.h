@@ -2,6 +2,8 @@
 // trees (SPIHT, Said & Pearlman 1996) over the semi-regular coefficient tree, as Progressive
 // Geometry Compression (Khodakovsky, Schroeder, Sweldens 2000) does, with every decision coded by
 // the adaptive binary range coder under a context (level, component, sibling significance).
+// A vertex carries K components: its three geometry coefficients (x, y, z, or normal and two
+// tangents in local frames) and then those of any extra channels (FORMAT.md §5).
 // Encoder and decoder run the same traversal (zerotree_coder.cpp), so they cannot drift apart.
 #pragma once
 
@@ -14,8 +16,10 @@
 
 namespace meshlift::zerotree {
 
-/// Components coded per vertex (x, y, z).
-inline constexpr int kComponents = 3;
+/// Components coded per vertex: 3 for the geometry, up to kMaxChannelComponents more.
+inline constexpr int kGeometryComponents = 3;
+inline constexpr int kMaxChannelComponents = 4;
+inline constexpr int kMaxComponents = kGeometryComponents + kMaxChannelComponents;
 
 /// The coding forest over all vertices: roots are the base vertices; a base vertex's children
 /// are the level-1 odd vertices on the base edges it starts (edge_vertices[2e] == v); every other
@@ -30,8 +34,10 @@ struct Forest {
   std::uint32_t vertex_count() const { return static_cast<std::uint32_t>(level.size()); }
 };
 
-/// Integer magnitudes floor(|c| / step) and signs of the normalized coefficients, 3 per vertex.
+/// Integer magnitudes floor(|c| / step) and signs of the normalized coefficients, `components`
+/// per vertex (vertex-major).
 struct Quantized {
+  int components = kGeometryComponents;
   std::vector<std::uint32_t> magnitude;
   std::vector<std::uint8_t> negative;
 };
@@ -44,6 +50,7 @@ void encode(const Forest& forest, const Quantized& q, int top_plane, RangeEncode
 /// What the decoder knows of each coefficient: magnitude bits known down to `low_plane`
 /// (|c| in [known, known + 2^low_plane) steps), or insignificant (known == 0).
 struct Decoded {
+  int components = kGeometryComponents;
   std::vector<std::uint32_t> known;
   std::vector<std::int8_t> low_plane;
   std::vector<std::uint8_t> negative;
@@ -58,7 +65,12 @@ struct Decoded {
   }
 };
 
+/// A coefficient in the transform domain from its reconstruction in steps (Decoded::value, or
+/// the encoder's own full-rate midpoint): steps * step / w_j. One function for both sides, so
+/// that the encoder's closed loop (local frames) sees bit for bit what the decoder will.
+inline double dequantize(double steps, double step, double weight) { return steps * step / weight; }
+
 /// Decodes until the stream ends (decoder exhausted) or every plane down to 0 is done.
-Decoded decode(const Forest& forest, int top_plane, RangeDecoder& decoder);
+Decoded decode(const Forest& forest, int components, int top_plane, RangeDecoder& decoder);
 
 }  // namespace meshlift::zerotree

@@ -47,6 +47,7 @@ struct EncodeArgs {
   std::string input, output, scheme = "loop";
   bool update = false;
   int bits = 16;
+  FrameArgs frames;
   RemeshCliOptions remesh;
   double bpv = 0, psnr = 0;
   std::size_t bytes = 0;
@@ -73,6 +74,7 @@ int run_encode(const EncodeArgs& a) {
   options.scheme = parse_scheme(a.scheme);
   options.mean_preserving_update = a.update;
   options.precision_bits = a.bits;
+  apply_frame_options(a.frames, options);
   const std::size_t vertices = input.vertex_count();
   if (a.bytes > 0) options.max_bytes = a.bytes;
   if (a.bpv > 0) options.max_bytes = static_cast<std::size_t>(std::ceil(a.bpv * static_cast<double>(vertices) / 8));
@@ -266,6 +268,17 @@ int run_stream(const StreamArgs& a) {
 
 }  // namespace
 
+void add_frame_options(CLI::App& cmd, FrameArgs& args) {
+  cmd.add_option("--frames", args.frames,
+                 "coordinates of the geometry details: local (normal and two tangents of the coarser level) or xyz")
+      ->check(CLI::IsMember({"local", "xyz"}))
+      ->capture_default_str();
+  cmd.add_option("--tangent-shift", args.tangent_shift,
+                 "local frames: quantize the tangential components 2^N times more coarsely than the normal")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+}
+
 void register_encode(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<EncodeArgs>();
   auto* cmd = app.add_subcommand("encode", "Encode a semi-regular mesh into an embedded .mlz stream");
@@ -277,6 +290,7 @@ void register_encode(CLI::App& app, int& exit_code) {
   add_remesh_options(*cmd, a->remesh, "--remesh");
   cmd->add_option("--bits", a->bits, "precision of the finest bit plane: step = diagonal * 2^-bits")
       ->check(CLI::Range(1, 40));
+  add_frame_options(*cmd, a->frames);
   auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")
                   ->check(CLI::PositiveNumber);
   auto* bytes = cmd->add_option("--bytes", a->bytes, "cut the stream at this many bytes")->check(CLI::PositiveNumber)->excludes(bpv);

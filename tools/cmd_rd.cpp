@@ -40,6 +40,7 @@ struct RdOptions {
   std::vector<double> bpv{0.25, 0.5, 1, 2, 4, 8};
   RemeshCliOptions remesh;  // --remesh, --levels, --base-vertices, --fit, as encode has them
   int bits = 16;
+  FrameArgs frames;
   bool separate = false;
   std::vector<int> draco_qp{6, 8, 10, 12, 14, 16};
   std::string output_dir;
@@ -357,6 +358,7 @@ class Sweep {
     EncodeOptions encode_options;
     encode_options.scheme = parse_scheme(scheme);
     encode_options.precision_bits = options_.bits;
+    apply_frame_options(options_.frames, encode_options);
 
     // One encode at the highest rate; prefixes of it at each budget.
     std::vector<std::uint8_t> file;
@@ -500,6 +502,7 @@ void register_rd(CLI::App& app, int& exit_code) {
                   "Finest quantization step diagonal*2^-B of the encodes (as `encode --bits`); the prefixes' "
                   "highest rate")
       ->capture_default_str();
+  add_frame_options(*cmd, options->frames);
   cmd->add_flag("--separate", options->separate, "Also encode separately at each budget (the embedded stream's cost)");
   cmd->add_option("--draco-qp", options->draco_qp,
                   "Draco quantization bits, comma-separated (rows only when draco_encoder/draco_decoder are on PATH)")

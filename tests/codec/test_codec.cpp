@@ -45,36 +45,50 @@ TEST_CASE("full-rate round trip stays within the promised per-coefficient bound"
                                    std::pair{"torus", test::torus()}, std::pair{"disk7", test::disk(7)}}) {
     const SemiRegularMesh mesh = bumpy(base, 3);
     for (const auto& scheme : kSchemes) {
-      INFO(name << " " << to_string(scheme.scheme) << (scheme.mean_preserving_update ? "+update" : ""));
-      EncodeOptions options;
-      options.scheme = scheme.scheme;
-      options.mean_preserving_update = scheme.mean_preserving_update;
-      options.precision_bits = 14;
-      const auto file = encode(mesh, options);
-      const DecodeResult r = decode(file);
-      REQUIRE(r.status == Status::ok);
-      REQUIRE(r.complete);
-      REQUIRE(r.mesh.positions.size() == mesh.positions.size());
-      CHECK(r.mesh.triangles == mesh.hierarchy.triangles(3));
-      // The promise (FORMAT.md §5): every normalized coefficient is within one step, i.e. the
-      // coefficient of level j within step / w_j. Check it in the coefficient domain by analyzing
-      // both meshes with the same transform.
-      const StreamInfo info = inspect(file);
-      REQUIRE(info.status == Status::ok);
-      const WaveletTransform transform(mesh.hierarchy, scheme);
-      std::vector<double> original = mesh.positions, decoded = r.mesh.positions;
-      transform.analyze(original);
-      transform.analyze(decoded);
-      double worst_ratio = 0;
-      for (int j = 0; j <= 3; ++j) {
-        const std::uint32_t begin = j == 0 ? 0 : mesh.hierarchy.vertex_count(j - 1);
-        double worst = 0;
-        for (std::size_t i = 3 * std::size_t{begin}; i < 3 * std::size_t{mesh.hierarchy.vertex_count(j)}; ++i)
-          worst = std::max(worst, std::abs(original[i] - decoded[i]));
-        worst_ratio = std::max(worst_ratio, worst / (info.step / info.level_weights[j]));
+      for (const bool frames : {false, true}) {
+        INFO(name << " " << to_string(scheme.scheme) << (scheme.mean_preserving_update ? "+update" : "")
+                  << (frames ? " local frames" : " xyz"));
+        EncodeOptions options;
+        options.scheme = scheme.scheme;
+        options.mean_preserving_update = scheme.mean_preserving_update;
+        options.precision_bits = 14;
+        options.local_frames = frames;
+        options.tangent_shift = 2;
+        const auto file = encode(mesh, options);
+        const DecodeResult r = decode(file);
+        REQUIRE(r.status == Status::ok);
+        REQUIRE(r.complete);
+        REQUIRE(r.mesh.positions.size() == mesh.positions.size());
+        CHECK(r.mesh.triangles == mesh.hierarchy.triangles(3));
+        // The promise (FORMAT.md §5): every normalized coefficient is within one step of its
+        // component, i.e. the coefficient of level j within step_c / w_j. Check it in the
+        // coefficient domain by analyzing both meshes with the same transform. In local frames
+        // the components are (normal, tangent, tangent) with steps (1, 4, 4) x step: the frame is
+        // orthonormal, so a detail's error vector is at most sqrt(1 + 4^2 + 4^2) steps / w_j long.
+        const StreamInfo info = inspect(file);
+        REQUIRE(info.status == Status::ok);
+        REQUIRE(info.local_frames == frames);
+        const WaveletTransform transform(mesh.hierarchy, scheme);
+        std::vector<double> original = mesh.positions, decoded = r.mesh.positions;
+        transform.analyze(original);
+        transform.analyze(decoded);
+        double worst_ratio = 0;
+        for (int j = 0; j <= 3; ++j) {
+          const std::uint32_t begin = j == 0 ? 0 : mesh.hierarchy.vertex_count(j - 1);
+          const double bound = info.step / info.level_weights[j] * (frames && j > 0 ? std::sqrt(33.0) : 1.0);
+          for (std::size_t v = begin; v < mesh.hierarchy.vertex_count(j); ++v) {
+            double error = 0;
+            for (int k = 0; k < 3; ++k) {
+              const double d = original[3 * v + k] - decoded[3 * v + k];
+              error = frames && j > 0 ? error + d * d : std::max(error, std::abs(d));
+            }
+            worst_ratio = std::max(worst_ratio, (frames && j > 0 ? std::sqrt(error) : error) / bound);
+          }
+        }
+        CHECK(worst_ratio <= 1.0 + 1e-9);
+        CHECK(worst_ratio > 0.2);  // the bound is tight enough to mean something
+        CHECK(rms_error(r.mesh.positions, mesh.positions) <= info.step * (frames ? 4 : 1));
       }
-      CHECK(worst_ratio <= 1.0 + 1e-9);
-      CHECK(rms_error(r.mesh.positions, mesh.positions) <= info.step);
     }
   }
 }
@@ -277,6 +291,7 @@ TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);
   EncodeOptions options;
   options.precision_bits = 12;
+  options.local_frames = false;  // the stream as first frozen (flags 0)
   const auto file = encode(mesh, options);
   const std::string path = std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/icosahedron_loop_L2_p12.mlz";
   if (std::getenv("MESHLIFT_REGENERATE_GOLDEN")) {  // only with a deliberate format change
@@ -310,4 +325,138 @@ TEST_CASE("embedded-stream cost: a prefix is within 0.3 dB of a file encoded dir
                 direct.size(), direct_db, prefix_db);
     CHECK(prefix_db >= direct_db - 0.3);
   }
+}
+
+namespace {
+
+// A smooth scalar field and an RGB-like field on a bumpy mesh's vertices, plus a sharp step, so
+// the channels have detail at every level.
+SemiRegularMesh with_channels(SemiRegularMesh mesh) {
+  const std::size_t V = mesh.positions.size() / 3;
+  VertexChannel scalar{1, std::vector<double>(V)}, colour{3, std::vector<double>(3 * V)};
+  for (std::size_t v = 0; v < V; ++v) {
+    const double x = mesh.positions[3 * v], y = mesh.positions[3 * v + 1], z = mesh.positions[3 * v + 2];
+    scalar.values[v] = 100 * std::sin(3 * x) * std::cos(2 * y) + (z > 0.3 ? 40 : 0);
+    colour.values[3 * v] = 0.5 + 0.5 * x;
+    colour.values[3 * v + 1] = 0.5 + 0.5 * std::sin(5 * y);
+    colour.values[3 * v + 2] = z > 0 ? 1.0 : 0.0;
+  }
+  mesh.channels = {scalar, colour};
+  return mesh;
+}
+
+double channel_rms(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+}  // namespace
+
+TEST_CASE("extra channels: full-rate round trip within their step, geometry unchanged", "[codec][channels]") {
+  for (const auto& scheme : kSchemes) {
+    INFO(to_string(scheme.scheme) << (scheme.mean_preserving_update ? "+update" : ""));
+    const SemiRegularMesh plain = bumpy(test::torus(), 3);
+    const SemiRegularMesh mesh = with_channels(plain);
+    EncodeOptions options;
+    options.scheme = scheme.scheme;
+    options.mean_preserving_update = scheme.mean_preserving_update;
+    options.precision_bits = 14;
+    options.channel_precision_bits = 10;
+    const auto file = encode(mesh, options);
+    const DecodeResult r = decode(file);
+    REQUIRE(r.status == Status::ok);
+    REQUIRE(r.complete);
+    REQUIRE(r.channels.size() == 2);
+    const StreamInfo info = inspect(file);
+    REQUIRE(info.channels.size() == 2);
+    for (std::size_t c = 0; c < 2; ++c) {
+      CHECK(r.channels[c].components == mesh.channels[c].components);
+      REQUIRE(r.channels[c].values.size() == mesh.channels[c].values.size());
+      // Per coefficient within step / w_j (FORMAT.md §5): analyze both and compare.
+      const WaveletTransform transform(mesh.hierarchy, scheme);
+      std::vector<double> original = mesh.channels[c].values, decoded = r.channels[c].values;
+      const int k = mesh.channels[c].components;
+      transform.analyze(original, k);
+      transform.analyze(decoded, k);
+      double worst_ratio = 0;
+      for (int j = 0; j <= 3; ++j) {
+        const std::size_t begin = j == 0 ? 0 : mesh.hierarchy.vertex_count(j - 1);
+        for (std::size_t i = k * begin; i < k * std::size_t{mesh.hierarchy.vertex_count(j)}; ++i)
+          worst_ratio = std::max(worst_ratio, std::abs(original[i] - decoded[i]) / (info.channels[c].step / info.level_weights[j]));
+      }
+      CHECK(worst_ratio <= 1.0 + 1e-9);
+      CHECK(worst_ratio > 0.2);
+      CHECK(channel_rms(r.channels[c].values, mesh.channels[c].values) <= info.channels[c].step);
+    }
+    // The geometry decodes as without channels (the channels share the coder, not the values).
+    const DecodeResult alone = decode(encode(plain, options));
+    REQUIRE(alone.status == Status::ok);
+    CHECK(r.mesh.positions == alone.mesh.positions);
+  }
+}
+
+TEST_CASE("extra channels: every prefix decodes them and their error falls with the bytes read", "[codec][channels][prefix]") {
+  const SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 4));
+  const auto file = encode(mesh, {});
+  const std::size_t first = inspect(file).chunks[2].offset + 8;
+  double previous[2] = {1e300, 1e300};
+  int cuts = 0;
+  for (std::size_t cut = first; cut <= file.size(); cut += std::max<std::size_t>(1, (file.size() - first) / 60), ++cuts) {
+    DecodeOptions o;
+    o.max_bytes = cut;
+    const DecodeResult r = decode(file, o);
+    INFO("cut at " << cut);
+    REQUIRE(r.status == Status::ok);
+    REQUIRE(r.channels.size() == 2);
+    for (std::size_t c = 0; c < 2; ++c) {
+      REQUIRE(r.channels[c].values.size() == mesh.channels[c].values.size());
+      const double error = channel_rms(r.channels[c].values, mesh.channels[c].values);
+      // 10 %, not the geometry's 5 % (test_prefixes.h): a channel has a few hundred coefficients
+      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more.
+      CHECK(error <= previous[c] * 1.10 + 1e-12);
+      previous[c] = std::min(previous[c], error);
+    }
+  }
+  CHECK(cuts >= 50);
+  // A coarser level carries the channels of its own vertices.
+  DecodeOptions coarse;
+  coarse.max_level = 2;
+  const DecodeResult r = decode(file, coarse);
+  REQUIRE(r.status == Status::ok);
+  CHECK(r.channels[1].values.size() == 3 * r.mesh.vertex_count());
+}
+
+TEST_CASE("extra channels: bad channels are refused with a message", "[codec][channels]") {
+  SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 2));
+  SECTION("wrong size") { mesh.channels[0].values.pop_back(); }
+  SECTION("NaN") { mesh.channels[1].values[7] = std::nan(""); }
+  SECTION("more than 4 components together") { mesh.channels.push_back(mesh.channels[1]); }
+  SECTION("zero components") { mesh.channels[0].components = 0; }
+  CHECK_THROWS_AS(encode(mesh, {}), MeshError);
+}
+
+TEST_CASE("golden stream: local frames and an extra channel", "[codec][golden]") {
+  // Fixed input: the icosahedron refined twice with the bumpy field and the two test channels,
+  // butterfly, 12 bits, local frames with tangent shift 2, channels at 8 bits.
+  const SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 2));
+  EncodeOptions options;
+  options.scheme = Scheme::butterfly;
+  options.precision_bits = 12;
+  options.local_frames = true;
+  options.tangent_shift = 2;
+  options.channel_precision_bits = 8;
+  const auto file = encode(mesh, options);
+  const std::string path = std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/icosahedron_butterfly_L2_p12_frames_channels.mlz";
+  if (std::getenv("MESHLIFT_REGENERATE_GOLDEN")) {  // only with a deliberate format change
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
+  }
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in.good());
+  const std::vector<std::uint8_t> golden((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(file == golden);
+  const DecodeResult r = decode(golden);
+  REQUIRE(r.status == Status::ok);
+  CHECK(r.channels.size() == 2);
 }

@@ -20,6 +20,14 @@ struct EncodeOptions {
   /// Quantization step of the finest bit plane, as a power of two of the bounding-box diagonal:
   /// step = diagonal * 2^-precision_bits (in the normalized coefficient domain, see FORMAT.md).
   int precision_bits = 16;
+  /// Geometry details in a local frame (normal, two tangents) of the coarser level instead of
+  /// x, y, z (codec/local_frames.h); the tangential components get a step 2^tangent_shift times
+  /// coarser. Remeshes place their details mostly along the normal, so this saves bits.
+  bool local_frames = true;
+  int tangent_shift = 2;
+  /// Extra channels (SemiRegularMesh::channels) are quantized with a step of their value range
+  /// (largest minus smallest value over all their components) times 2^-channel_precision_bits.
+  int channel_precision_bits = 12;
   /// Cut the embedded stream to at most this many bytes (whole file, headers included). Below
   /// the header and base mesh (the smallest stream that decodes), encode() throws MeshError.
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
@@ -45,6 +53,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& mesh, const EncodeOption
 /// tests/codec/test_hostile.cpp measures real decodes against them.
 inline constexpr std::uint64_t kDecodeBytesPerBaseFace = 512;
 inline constexpr std::uint64_t kDecodeBytesPerVertex = 256;
+/// ... plus this much per output vertex for each component of an extra channel.
+inline constexpr std::uint64_t kDecodeBytesPerChannelComponent = 32;
 
 /// Caller-settable caps, checked against the header before anything is allocated.
 /// The default memory budget of 4 GiB is the default cap of 2^24 output vertices times
@@ -67,6 +77,7 @@ struct DecodeResult {
   Status status = Status::ok;  ///< ok, or why nothing (or less) could be decoded
   std::string message;         ///< the specific element or offset, for the user
   TriangleMesh mesh;           ///< the best mesh the bytes allow (empty if status is an error)
+  std::vector<VertexChannel> channels;  ///< the stream's extra channels, for mesh's vertices
   int level = 0;               ///< refinement level of `mesh`
   int levels = 0;              ///< levels in the stream
   int bit_plane = -1;          ///< lowest bit plane fully or partly decoded (-1: none)
@@ -103,6 +114,13 @@ struct StreamInfo {
   double step = 0;  ///< quantization step of the finest plane (normalized domain)
   std::vector<double> level_weights;  ///< w_j: level j's coefficients are known within step / w_j
   int top_plane = 0;
+  bool local_frames = false;
+  int tangent_shift = 0;
+  struct Channel {
+    int components = 1;
+    double step = 0;
+  };
+  std::vector<Channel> channels;
   struct Chunk {
     std::string tag;
     std::size_t offset = 0, size = 0;

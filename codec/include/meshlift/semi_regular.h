@@ -65,10 +65,20 @@ class SemiRegularHierarchy {
   std::vector<std::uint32_t> children_;
 };
 
-/// A semi-regular mesh: hierarchy plus positions of the finest level (xyz, ordered by level).
+/// Values carried per vertex along with the geometry and coded by the same wavelets and coder
+/// (a scalar function, a colour; FORMAT.md §3, §5): `components` values per vertex, vertex-major,
+/// for the same vertices in the same order as the positions they go with.
+struct VertexChannel {
+  int components = 1;
+  std::vector<double> values;
+};
+
+/// A semi-regular mesh: hierarchy plus positions of the finest level (xyz, ordered by level),
+/// and optionally extra per-vertex channels.
 struct SemiRegularMesh {
   SemiRegularHierarchy hierarchy;
   std::vector<double> positions;
+  std::vector<VertexChannel> channels;
 
   /// The triangle mesh of `level` (positions of its vertices taken from `values`, which must hold
   /// at least vertex_count(level) xyz triples: e.g. the output of a synthesis stopped at `level`).
