@@ -25,8 +25,8 @@ prepare() {
   corpus="$(./scripts/corpus.sh)"
   say "building meshlift in $build/"
   local start=$SECONDS
-  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$build" -j"$(nproc)" --target meshlift_cli >/dev/null
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DMESHLIFT_BENCH=ON >/dev/null
+  cmake --build "$build" -j"$(nproc)" --target meshlift_cli bench_sphere_function >/dev/null
   rm -rf "$out"
   mkdir -p "$out"/{info,remesh,codec,decode,pictures,rd}
   echo "$(( SECONDS - start ))" >"$out/build_seconds.txt"
@@ -146,6 +146,32 @@ geometry_image() {
   fi
 }
 
+# A function on the sphere as an extra channel of the stream: the Earth (Debian's xplanet-images,
+# fetched without installing; a procedural pattern if that fails) on the octahedral sphere grid.
+sphere_function() {
+  local cache="$root/.cache/earth" image=()
+  if [ ! -f "$cache/earth.ppm" ]; then
+    local work
+    work="$(mktemp -d)"
+    if (cd "$work" && apt-get download xplanet-images >/dev/null 2>&1) && dpkg -x "$work"/xplanet-images_*.deb "$work/pkg"; then
+      mkdir -p "$cache"
+      $py -c 'import sys, numpy as np, matplotlib.image as im
+a = im.imread(sys.argv[1])[:, :, :3]
+open(sys.argv[2], "wb").write(b"P6\n%d %d\n255\n" % (a.shape[1], a.shape[0]) + np.ascontiguousarray(a, dtype=np.uint8).tobytes())' \
+        "$work/pkg/usr/share/xplanet/images/earth.jpg" "$cache/earth.ppm" || rm -f "$cache/earth.ppm"
+    fi
+    rm -rf "$work"
+  fi
+  [ -f "$cache/earth.ppm" ] && image=(--image "$cache/earth.ppm")
+  mkdir -p "$out/sphere_function"
+  say "a function on the sphere (${image[1]:-procedural}) as a colour channel: octahedral grid 513 x 513, 3 schemes"
+  case "$build" in /*) local bench="$build/bench_sphere_function" ;; *) local bench="$root/$build/bench_sphere_function" ;; esac
+  "$bench" "${image[@]}" --levels 8 --bits 10 -o "$out/sphere_function" >"$out/sphere_function/table.txt"
+  sed "s|$root/||g; s/^/   /" "$out/sphere_function/table.txt" | head -3
+  $py tools/plot_sphere_function.py "$out/sphere_function" >/dev/null
+  rm -f "$out"/sphere_function/*.p[gp]m
+}
+
 report() {
   $py tools/demo_report.py "$out" "$levels" "${meshes[@]}"
 }
@@ -158,5 +184,6 @@ codec
 sweep
 pictures
 geometry_image
+sphere_function
 echo "$(( SECONDS - start_time ))" >"$out/demo_seconds.txt"
 report

@@ -43,7 +43,12 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
               << ",\n  \"base_vertices\": " << info.base_vertices << ",\n  \"base_faces\": " << info.base_faces
               << ",\n  \"vertices\": " << info.vertices << ",\n  \"faces\": " << info.faces
               << ",\n  \"step\": " << info.step << ",\n  \"top_plane\": " << info.top_plane
-              << ",\n  \"base_share_percent\": " << share << ",\n  \"chunks\": [";
+              << ",\n  \"local_frames\": " << (info.local_frames ? "true" : "false")
+              << ",\n  \"tangent_shift\": " << info.tangent_shift << ",\n  \"channels\": [";
+    for (std::size_t i = 0; i < info.channels.size(); ++i)
+      std::cout << (i ? ", " : "") << "{\"components\": " << info.channels[i].components
+                << ", \"step\": " << info.channels[i].step << "}";
+    std::cout << "],\n  \"base_share_percent\": " << share << ",\n  \"chunks\": [";
     for (std::size_t i = 0; i < info.chunks.size(); ++i)
       std::cout << (i ? ", " : "") << "{\"tag\": \"" << info.chunks[i].tag << "\", \"offset\": " << info.chunks[i].offset
                 << ", \"size\": " << info.chunks[i].size << ", \"complete\": " << (info.chunks[i].complete ? "true" : "false")
@@ -56,7 +61,12 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
               << "\n  levels:       " << info.levels << "\n  base mesh:    " << info.base_vertices << " vertices, "
               << info.base_faces << " faces\n  finest mesh:  " << info.vertices << " vertices, " << info.faces
               << " faces\n  quantization: step " << info.step << " (normalized), top bit plane " << info.top_plane
-              << "\n  header + base connectivity: " << base_bytes << " bytes (" << share << " % of the file)\n  chunks:\n";
+              << "\n  details:      "
+              << (info.local_frames ? "local frames (normal, tangents at step x 2^" + std::to_string(info.tangent_shift) + ")"
+                                    : std::string("x, y, z"));
+    for (const auto& c : info.channels)
+      std::cout << "\n  channel:      " << c.components << " component(s), step " << c.step;
+    std::cout << "\n  header + base connectivity: " << base_bytes << " bytes (" << share << " % of the file)\n  chunks:\n";
     for (const auto& c : info.chunks)
       std::cout << "    " << c.tag << " at " << c.offset << ": " << c.size << " bytes" << (c.complete ? "" : " (incomplete)")
                 << "\n";

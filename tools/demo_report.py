@@ -345,6 +345,15 @@ def main(argv):
     md += ["## Pictures", "", "![original, remeshed, decoded armadillo](armadillo.png)", ""]
     if os.path.exists(os.path.join(out, "camel_gim.png")):
         md += ["Spherical geometry image of the camel (`meshlift gim`, 16-bit RGB = xyz): `camel_gim.png`.", ""]
+    if os.path.exists(os.path.join(out, "sphere_function", "sphere_function_rd.png")):
+        md += ["## A function on the sphere, coded as a channel", "",
+               "The Earth's colours (Debian's xplanet-images, or a procedural pattern) sampled on the octahedral "
+               "sphere grid (513 x 513 image, 262,146 vertices) and coded with the sphere's geometry in one embedded "
+               "stream (an extra channel, FORMAT.md §5). Function PSNR against bits per sample, and the decoded "
+               "function unfolded on the octahedral image at growing prefixes (butterfly):", "",
+               "![function PSNR against bits per sample](sphere_function/sphere_function_rd.png)", "",
+               "![decoded function at growing prefixes](sphere_function/sphere_function_strip.png)", "",
+               "```", read_text(os.path.join(out, "sphere_function", "table.txt")).strip(), "```", ""]
     md += ["Plots per mesh: " + ", ".join("`rd/%s`" % os.path.basename(p)
                                           for p in sorted(glob.glob(os.path.join(out, "rd", "rd_*.png")))), ""]
 

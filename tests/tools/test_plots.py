@@ -1,4 +1,4 @@
-"""Tests of tools/render.py and tools/plot_rd.py: rasterizer coverage and depth, mesh readers,
+"""Tests of tools/render.py, tools/plot_rd.py and tools/plot_sphere_function.py: rasterizer coverage and depth, mesh readers,
 camera framing, BD-rate on curves with known answers, rd.csv handling.
 
 Run: /usr/bin/python3 -m unittest discover -s tests/tools -p 'test_plots.py'   (ctest: "tools: python plots")
@@ -19,6 +19,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import numpy as np  # noqa: E402
 
 import plot_rd  # noqa: E402
+import plot_sphere_function  # noqa: E402
 import render  # noqa: E402
 
 
@@ -413,3 +414,48 @@ class RdCsvTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class SphereFunctionPlotTest(unittest.TestCase):
+    def write_dir(self, d, with_original=True):
+        with open(os.path.join(d, "sphere_function.csv"), "w") as f:
+            f.write("scheme,bytes,bits_per_sample,function_psnr_db,geometry_psnr_db\n")
+            for scheme, base in (("linear", 20.0), ("butterfly", 21.0)):
+                for k, size in enumerate((100, 200, 400)):
+                    f.write(f"{scheme},{size},{size / 50:.3f},{base + 6 * k:.2f},50\n")
+        image = np.arange(5 * 5 * 3, dtype=np.uint8).reshape(5, 5, 3)
+        names = ["100", "200", "400"] + (["original"] if with_original else [])
+        for name in names:
+            with open(os.path.join(d, f"function_{name}.ppm"), "wb") as f:
+                f.write(b"P6\n5 5\n255\n" + image.tobytes())
+
+    def run_main(self, argv):
+        old = sys.argv
+        sys.argv = ["plot_sphere_function.py"] + argv
+        try:
+            with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+                return plot_sphere_function.main()
+        finally:
+            sys.argv = old
+
+    def test_netpbm_reader_reads_what_the_bench_writes(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "a.pgm")
+            with open(path, "wb") as f:
+                f.write(b"P5\n3 2\n255\n" + bytes([0, 51, 255, 102, 153, 204]))
+            image = plot_sphere_function.read_netpbm(path)
+            self.assertEqual(image.shape, (2, 3))
+            self.assertAlmostEqual(image[0, 1], 0.2)
+            self.assertAlmostEqual(image[1, 2], 0.8)
+
+    def test_curve_and_strip_are_written(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write_dir(d)
+            self.assertEqual(self.run_main([d]), 0)
+            for name in ("sphere_function_rd.png", "sphere_function_rd.svg", "sphere_function_strip.png"):
+                self.assertGreater(os.path.getsize(os.path.join(d, name)), 1000, name)
+
+    def test_missing_original_exits_with_code_3(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.write_dir(d, with_original=False)
+            self.assertEqual(self.run_main([d]), 3)
