@@ -1,5 +1,7 @@
 #include "meshlift/mesh_io.h"
 
+#include "off_reader.h"
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -114,7 +116,7 @@ struct ReadAborted {
 /// ImporterT it builds no half-edge structure, so it never rejects, splits or duplicates a
 /// non-manifold face. Every other attribute (normals, colours, texture coordinates) is ignored.
 ///
-/// Readers trust counts from file headers (an OFF saying 4e9 vertices loops 4e9 times even after
+/// Readers trust counts from file headers (a PLY saying 4e9 vertices loops 4e9 times even after
 /// the stream has failed), so element counts are capped by the file size: every format spends
 /// at least one byte per vertex and per face.
 class FlatImporter : public OpenMesh::IO::BaseImporter {
@@ -221,112 +223,12 @@ std::string random_suffix() {
 
 
 // ---- Pre-scan of counts the OpenMesh readers would trust ----
-// OpenMesh 9's OFF and PLY readers loop over header and face-size counts without checking them
-// against the data, pushing into a vector even after the stream has failed: one corrupt count
-// (4e9 corners) exhausts memory before any importer callback can stop it. These scans walk the
-// file the way the readers do and reject any count larger than the file; every smaller count
-// is then bounded by FlatImporter's element caps. An OFF/PLY file without such counts passes.
-
-/// The face section of an OFF file as OpenMesh reads it (both readings below end with it): per
-/// face "n i_1 .. i_n" [rest of line when the header has C]; n is read into an unsigned int that
-/// keeps its previous value when the read fails, as in OpenMesh's reader.
-std::string off_faces_problem(std::istream& in, long long vertices, long long faces, bool colors, std::uintmax_t size) {
-  std::string rest;
-  unsigned int corners = static_cast<unsigned int>(vertices);
-  for (long long f = 0; f < faces && in.good(); ++f) {
-    in >> corners;
-    if (corners > size)
-      return "face " + std::to_string(f) + " claims " + std::to_string(corners) + " corners, more than the file's " +
-             std::to_string(size) + " bytes";
-    unsigned int index = 0;  // unsigned like OpenMesh's, so "4-17" splits the same way
-    for (unsigned int c = 0; c < corners && in.good(); ++c) in >> index;
-    if (colors) std::getline(in, rest);
-  }
-  return "";
-}
-
-/// OFF: header line, "V F E", V vertex lines (3 floats [3 normal floats] rest-of-line), then per
-/// face "n i_1 .. i_n" [rest of line when the header has C]; n is read into an unsigned int
-/// that keeps its previous value when the read fails, as in OpenMesh's reader.
-std::string off_count_problem_tokens(const std::string& path, std::uintmax_t size) {
-  std::ifstream in(path);
-  std::string header;
-  std::getline(in, header);
-  if (header.find("BINARY") != std::string::npos) return "binary OFF is not supported";
-  const std::size_t off_at = header.find("OFF");
-  const std::string prefix = header.substr(0, off_at == std::string::npos ? 0 : off_at);
-  const bool normals = prefix.find('N') != std::string::npos;
-  const bool colors = prefix.find('C') != std::string::npos;
-  long long vertices = -1, faces = -1;
-  if (!(in >> vertices >> faces) || vertices < 0 || faces < 0)
-    return "OFF header has no vertex and face counts";
-  if (std::uintmax_t(vertices) > size || std::uintmax_t(faces) > size)
-    return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
-           " faces, more than the file's " + std::to_string(size) + " bytes";
-  std::string rest;
-  in >> rest;  // edge count, unused
-  for (long long v = 0; v < vertices && in.good(); ++v) {
-    float x, y, z;
-    in >> x >> y >> z;
-    // The reader parses floats with operator>>, which stops at "nan", "inf" or any other text
-    // and then reads garbage: name the vertex instead.
-    if (!in) return "vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number";
-    if (normals) in >> x >> y >> z;
-    std::getline(in, rest);
-  }
-  return off_faces_problem(in, vertices, faces, colors, size);
-}
-
-std::string off_count_problem_lines(const std::string& path, std::uintmax_t size) {
-  std::ifstream in(path);
-  std::string header;
-  std::getline(in, header);
-  if (header.find("BINARY") != std::string::npos) return "binary OFF is not supported";
-  const std::size_t off_at = header.find("OFF");
-  const std::string prefix = header.substr(0, off_at == std::string::npos ? 0 : off_at);
-  const bool normals = prefix.find('N') != std::string::npos;
-  const bool colors = prefix.find('C') != std::string::npos;
-  // The counts line "V F E" and then one line per vertex, blank lines skipped: the reader takes
-  // each vertex from its own line, so its coordinates (and with N its normal) must all be on it,
-  // or the reader and this scan would disagree about where the faces start (a NOFF file without
-  // normals made OpenMesh read a coordinate as 4e9 corners and loop; found by fuzz_read_off).
-  auto next_line = [&in](std::string& line) {
-    do std::getline(in, line);
-    while (in.good() && line.find_first_not_of(" \t\r") == std::string::npos);
-  };
-  std::string counts;
-  next_line(counts);
-  std::istringstream count_numbers(counts);
-  long long vertices = -1, faces = -1, edges = -1;
-  if (!(count_numbers >> vertices >> faces) || vertices < 0 || faces < 0)
-    return "OFF header has no vertex and face counts";
-  if (!(count_numbers >> edges)) return "OFF counts line has no edge count (expected \"V F E\" on one line)";
-  if (std::uintmax_t(vertices) > size || std::uintmax_t(faces) > size)
-    return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
-           " faces, more than the file's " + std::to_string(size) + " bytes";
-  for (long long v = 0; v < vertices && in.good(); ++v) {
-    std::string line;
-    next_line(line);
-    std::istringstream numbers(line);
-    float x, y, z;
-    numbers >> x >> y >> z;
-    // The reader parses floats with operator>>, which stops at "nan", "inf" or any other text
-    // and then reads garbage: name the vertex instead.
-    if (!numbers) return "vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number";
-    if (normals && !(numbers >> x >> y >> z))
-      return "vertex " + std::to_string(v) + " has no normal on its line, though the header (" + prefix +
-             "OFF) says vertices have normals";
-  }
-  return off_faces_problem(in, vertices, faces, colors, size);
-}
-
-/// Both readings: fuzzing found inputs that only one of them catches (a counts line with extra
-/// tokens; a NOFF file without normals), and which one OpenMesh follows differs by section, so
-/// a file must pass both. Well-formed files do (the whole libcgal-demo corpus reads as before).
-std::string off_count_problem(const std::string& path, std::uintmax_t size) {
-  const std::string tokens = off_count_problem_tokens(path, size);
-  return tokens.empty() ? off_count_problem_lines(path, size) : tokens;
-}
+// OpenMesh 9's PLY reader loops over header and list counts without checking them against the
+// data, pushing into a vector even after the stream has failed: one corrupt count (4e9 corners)
+// exhausts memory before any importer callback can stop it. This scan walks the file the way
+// the reader does and rejects any count larger than the file; every smaller count is then
+// bounded by FlatImporter's element caps. (OFF has its own reader, off_reader.cpp, for this
+// reason: no scan could follow OpenMesh's mix of token and line reading.)
 
 std::size_t ply_type_size(const std::string& type) {
   if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
@@ -512,7 +414,9 @@ std::string obj_corner_problem(const std::string& path) {
     std::istringstream words(line);
     std::string word;
     if (!(words >> word)) continue;
-    if (word == "v") {  // parsed with operator>> by the reader too: see off_count_problem
+    if (word == "v") {
+      // The reader parses floats with operator>>, which stops at "nan", "inf" or any other text
+      // and then reads garbage: name the line instead.
       float x, y, z;
       if (!(words >> x >> y >> z))
         return "OBJ line " + std::to_string(number) + ": a vertex coordinate is missing or not a finite number";
@@ -533,26 +437,13 @@ std::string obj_corner_problem(const std::string& path) {
 }
 
 std::string unbounded_count_problem(const std::string& path, const std::string& ext, std::uintmax_t size) {
-  if (ext == "off") return off_count_problem(path, size);
   if (ext == "ply") return ply_count_problem(path, size);
   if (ext == "obj") return obj_corner_problem(path);
   return "";  // the STL reader checks binary sizes against the file
 }
 
-}  // namespace
-
-PolygonMesh read_mesh(const std::string& path) {
-  const std::string ext = extension_of(path);
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "no such file");
-  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) fail(path, "cannot read file size: " + ec.message());
-  if (!std::ifstream(path, std::ios::binary).is_open()) fail(path, "cannot open file for reading");
-  if (!is_supported_extension(ext))
-    fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
-  if (size == 0) fail(path, "file is empty");
-
+/// OBJ, PLY and STL through OpenMesh's readers, after the pre-scans above.
+PolygonMesh read_with_openmesh(const std::string& path, const std::string& ext, std::uintmax_t size) {
   const std::string unsafe = unbounded_count_problem(path, ext, size);
   if (!unsafe.empty()) fail(path, unsafe);
 
@@ -574,7 +465,33 @@ PolygonMesh read_mesh(const std::string& path) {
   if (!ok)
     fail(path, "the " + ext + " reader could not parse the file" + (complaint.empty() ? "" : " (" + complaint + ")"));
 
-  PolygonMesh mesh = std::move(importer.mesh);
+  return std::move(importer.mesh);
+}
+
+/// The first `size` bytes of the file (read_off parses the whole file in memory).
+std::string contents_of(const std::string& path, std::uintmax_t size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  return text;
+}
+
+}  // namespace
+
+PolygonMesh read_mesh(const std::string& path) {
+  const std::string ext = extension_of(path);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path, "no such file");
+  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) fail(path, "cannot read file size: " + ec.message());
+  if (!std::ifstream(path, std::ios::binary).is_open()) fail(path, "cannot open file for reading");
+  if (!is_supported_extension(ext))
+    fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
+  if (size == 0) fail(path, "file is empty");
+
+  PolygonMesh mesh = ext == "off" ? read_off(path, contents_of(path, size)) : read_with_openmesh(path, ext, size);
   if (mesh.vertex_count() == 0) fail(path, "file has no vertices");
   const std::size_t vertex_count = mesh.vertex_count();
   for (std::size_t f = 0; f < mesh.face_count(); ++f)
