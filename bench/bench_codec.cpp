@@ -1,11 +1,19 @@
 // Codec throughput on a >= 2 M-vertex semi-regular mesh: encode and decode (whole file and a
-// ~2 bits/vertex prefix), with the decode split into its stages, and peak memory.
-//   cmake -B build -DMESHLIFT_BENCH=ON && cmake --build build --target bench_codec && ./build/bench_codec
+// ~2 bits/vertex prefix), the decode split into its stages, and the peak memory of a decode.
+//   cmake -B build -DMESHLIFT_BENCH=ON && cmake --build build --target bench_codec && ./build/bench_codec [runs]
+// Every figure is the best of `runs` (default 5) runs, as wall time and as this process's user
+// CPU time (getrusage): on a machine shared with other jobs the CPU time is the steadier one.
+#include <malloc.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <string>
 
 #include "test_meshes.h"
 #include "meshlift/codec.h"
@@ -14,8 +22,58 @@ using namespace meshlift;
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+struct Timing {
+  double wall = 1e300, user = 1e300, system = 1e300;
+};
+
+double cpu_seconds(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
+
+/// Runs f `runs` times; the best wall, user and system times (each its own minimum).
+template <class F>
+Timing best_of(int runs, F&& f) {
+  Timing best;
+  for (int r = 0; r < runs; ++r) {
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    getrusage(RUSAGE_SELF, &after);
+    best.wall = std::min(best.wall, wall);
+    best.user = std::min(best.user, cpu_seconds(after.ru_utime) - cpu_seconds(before.ru_utime));
+    best.system = std::min(best.system, cpu_seconds(after.ru_stime) - cpu_seconds(before.ru_stime));
+  }
+  return best;
+}
+
+void print_timing(const char* what, const Timing& t, double vertices, const std::string& extra = "") {
+  std::printf("  %-22s wall %6.3f s  user %6.3f s  sys %6.3f s  %6.2f M vertices/s (wall)  %s\n", what, t.wall, t.user,
+              t.system, vertices / t.wall / 1e6, extra.c_str());
+}
+
+/// VmRSS or VmHWM of this process in bytes (Linux /proc/self/status).
+double status_bytes(const char* field) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind(field, 0) == 0) return 1024.0 * std::strtod(line.c_str() + std::string(field).size() + 1, nullptr);
+  return -1;
+}
+
+/// Peak resident bytes f adds above what the process holds before it: freed heap is returned to
+/// the system first (malloc_trim), then the high-water mark is reset to the current resident size
+/// (/proc/self/clear_refs, Linux >= 4.0). -1 where that is not available.
+template <class F>
+double peak_bytes_added(F&& f) {
+  malloc_trim(0);
+  {
+    std::ofstream clear("/proc/self/clear_refs");
+    clear << "5";
+    if (!clear) return -1;
+  }
+  const double before = status_bytes("VmRSS:");
+  f();
+  return status_bytes("VmHWM:") - before;
 }
 
 // Icosahedron refined twice (320 faces), Loop-subdivided 7 levels and displaced by a smooth
@@ -38,50 +96,91 @@ SemiRegularMesh test_mesh(int levels) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
+  // Every array of 256 KiB or more is mapped fresh and returned on release, as in a process that
+  // decodes once: its page faults count in every run, not only in the first (glibc would
+  // otherwise raise this threshold and recycle freed arrays between runs).
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024);
   constexpr int levels = 7;
   const SemiRegularMesh mesh = test_mesh(levels);
   const double V = mesh.hierarchy.vertex_count(levels);
-  std::printf("mesh: %.0f vertices, %d levels, base %u vertices\n", V, levels, mesh.hierarchy.vertex_count(0));
+  std::printf("mesh: %.0f vertices, %d levels, base %u vertices; best of %d runs\n", V, levels,
+              mesh.hierarchy.vertex_count(0), runs);
 
-  auto t0 = std::chrono::steady_clock::now();
-  const auto file = encode(mesh, {});
-  const double encode_s = seconds_since(t0);
-  std::printf("encode: %.2f s (%.2f M vertices/s), %zu bytes, %.2f bits/vertex at 16-bit precision\n", encode_s,
-              V / encode_s / 1e6, file.size(), 8.0 * file.size() / V);
+  std::vector<std::uint8_t> file;
+  const Timing encode_time = best_of(runs, [&] { file = encode(mesh, {}); });
+  std::printf("end to end:\n");
+  print_timing("encode", encode_time, V,
+               std::to_string(file.size()) + " bytes, " + std::to_string(8.0 * file.size() / V).substr(0, 4) +
+                   " bits/vertex at 16-bit precision");
 
   const std::size_t two_bpv = static_cast<std::size_t>(2 * V / 8);
+  Timing whole_file;
   for (std::size_t budget : {two_bpv, file.size()}) {
     DecodeOptions o;
     o.max_bytes = budget;
-    double best = 1e300;
     DecodeResult r;
-    for (int rep = 0; rep < 3; ++rep) {
-      t0 = std::chrono::steady_clock::now();
-      r = decode(file, o);
-      best = std::min(best, seconds_since(t0));
-    }
-    std::printf("decode %zu bytes (%.2f bpv): %.3f s, %.2f M output vertices/s, bit plane %d\n", r.bytes_used,
-                8.0 * r.bytes_used / V, best, V / best / 1e6, r.bit_plane);
+    const Timing t = best_of(runs, [&] { r = decode(file, o); });
+    const std::string what = "decode " + std::to_string(8.0 * r.bytes_used / V).substr(0, 4) + " bpv";
+    print_timing(what.c_str(), t, V, "bit plane " + std::to_string(r.bit_plane));
+    if (budget == file.size()) whole_file = t;
   }
 
-  // Stages of a decode, timed separately.
-  t0 = std::chrono::steady_clock::now();
-  const SemiRegularHierarchy h(mesh.hierarchy.topology(0), levels);
-  const double hierarchy_s = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  const WaveletTransform transform(h, {Scheme::loop, false});
-  const double tables_s = seconds_since(t0);
-  std::vector<double> values = mesh.positions;
-  t0 = std::chrono::steady_clock::now();
-  transform.synthesize(values);
-  const double synthesis_s = seconds_since(t0);
-  std::printf("stages: hierarchy %.3f s, stencil tables %.3f s, synthesis %.3f s (the rest of a decode is the\n"
-              "        container, base mesh and coefficient decoding)\n",
-              hierarchy_s, tables_s, synthesis_s);
+  // The stages of a decode (and analysis, the encoder's counterpart of synthesis), timed alone.
+  std::printf("stages:\n");
+  std::optional<SemiRegularHierarchy> h;
+  const Timing hierarchy_time = best_of(runs, [&] {
+    h.reset();
+    h.emplace(mesh.hierarchy.topology(0), levels);
+  });
+  std::optional<WaveletTransform> transform;
+  const Timing tables_time = best_of(runs, [&] {
+    transform.reset();
+    transform.emplace(*h, WaveletOptions{Scheme::loop, false});
+  });
+  std::vector<double> values;
+  const Timing synthesis_time = best_of(runs, [&] {
+    values = mesh.positions;  // the copy is part of the figure (a decoder fills its values too)
+    transform->synthesize(values);
+  });
+  const Timing analysis_time = best_of(runs, [&] {
+    values = mesh.positions;
+    transform->analyze(values);
+  });
+  print_timing("hierarchy", hierarchy_time, V);
+  print_timing("stencil tables", tables_time, V);
+  print_timing("synthesis", synthesis_time, V);
+  print_timing("analysis", analysis_time, V);
+  const Timing rest{whole_file.wall - hierarchy_time.wall - tables_time.wall - synthesis_time.wall,
+                    whole_file.user - hierarchy_time.user - tables_time.user - synthesis_time.user,
+                    whole_file.system - hierarchy_time.system - tables_time.system - synthesis_time.system};
+  print_timing("rest of a decode", rest, V, "(whole-file decode minus the three stages above: container, base mesh,");
+  std::printf("  %-22s %s\n", "", "coefficient tree and decoding, dequantization)");
+
+  std::printf("memory:\n");
+  std::printf("  hierarchy %.1f bytes/vertex, stencil tables %.1f bytes/vertex (their own accounting)\n",
+              h->memory_bytes() / V, transform->memory_bytes() / V);
+  h.reset();
+  transform.reset();
+  values = {};
+  for (std::size_t budget : {two_bpv, file.size()}) {
+    DecodeOptions o;
+    o.max_bytes = budget;
+    const double peak = peak_bytes_added([&] { const DecodeResult r = decode(file, o); });
+    std::printf("  decode of %.2f bpv: peak %.0f MiB above the bench's own data, %.0f bytes per output vertex\n",
+                8.0 * std::min(budget, file.size()) / V, peak / (1 << 20), peak / V);
+  }
+  const double hierarchy_peak =
+      peak_bytes_added([&] { const SemiRegularHierarchy alone(mesh.hierarchy.topology(0), levels); });
+  const SemiRegularHierarchy hierarchy(mesh.hierarchy.topology(0), levels);
+  const double tables_peak =
+      peak_bytes_added([&] { const WaveletTransform alone(hierarchy, WaveletOptions{Scheme::loop, false}); });
+  std::printf("  construction alone: hierarchy peak %.0f, stencil tables peak %.0f bytes per vertex\n",
+              hierarchy_peak / V, tables_peak / V);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  std::printf("peak resident memory: %.0f MiB (%.0f bytes per vertex, encoder and decoder together)\n",
+  std::printf("  whole bench (encoder, decoder, test mesh): peak %.0f MiB, %.0f bytes per vertex\n",
               usage.ru_maxrss / 1024.0, usage.ru_maxrss * 1024.0 / V);
   return 0;
 }
