@@ -47,138 +47,127 @@ Scheme parse_scheme(const std::string& name) {
   throw std::invalid_argument("unknown wavelet scheme '" + name + "' (expected linear, butterfly or loop)");
 }
 
-namespace {
-/// How many source entries ahead synthesis prefetches; the index arrays carry this much padding.
-constexpr std::uint32_t kPrefetchDistance = 48;
-}  // namespace
-
 WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options)
     : options_(options) {
   for (int j = 0; j <= hierarchy.levels(); ++j) vertex_counts_.push_back(hierarchy.vertex_count(j));
   steps_.resize(hierarchy.levels());
   for (int j = 0; j < hierarchy.levels(); ++j) {
     const TriangleTopology& t = hierarchy.topology(j);
-    const VertexEdges vertex_edges(t);
-    LiftingStep predict = stencils::predict(t, vertex_edges, options.scheme);
     auto& steps = steps_[j];
     if (options.scheme == Scheme::loop) {
-      steps.push_back(std::move(predict));
-      steps.push_back(stencils::loop_update(t, vertex_edges));
-    } else if (options.mean_preserving_update) {
-      steps.push_back(stencils::mean_preserving_update(t, vertex_edges, predict));
+      // Levels above the base are refinements of the level below: their rows follow from it.
+      const TriangleTopology* coarse = j > 0 ? &hierarchy.topology(j - 1) : nullptr;
+      steps.push_back(coarse ? stencils::loop_predict_refined(*coarse, t) : stencils::predict(t, options.scheme));
+      steps.push_back(coarse ? stencils::loop_update_refined(*coarse, t) : stencils::loop_update(t));
+      continue;
+    }
+    LiftingStep predict = stencils::predict(t, options.scheme);
+    if (options.mean_preserving_update) {
+      steps.push_back(stencils::mean_preserving_update(t, predict));
       steps.push_back(std::move(predict));
     } else {
       steps.push_back(std::move(predict));
     }
-    for (LiftingStep& step : steps) {
-      step.indices.resize(step.indices.size() + kPrefetchDistance, 0);
-      step.indices.shrink_to_fit();
-      step.row_pattern.shrink_to_fit();
-    }
   }
-}
-
-void LiftingStep::append_row(double scale, std::span<const std::uint32_t> sources, std::span<const double> weights) {
-  const auto arity = static_cast<std::uint32_t>(sources.size());
-  auto matches = [&](std::uint32_t p) {
-    const Pattern& candidate = patterns[p];
-    return candidate.arity == arity && candidate.scale == scale &&
-           std::equal(weights.begin(), weights.end(), pattern_weights.begin() + candidate.first_weight);
-  };
-  // Consecutive rows mostly repeat the previous row's pattern: try it first.
-  std::uint32_t found = kNone;
-  if (!row_pattern.empty() && matches(row_pattern.back())) found = row_pattern.back();
-  for (std::uint32_t p = 0; p < patterns.size() && found == kNone; ++p)
-    if (matches(p)) found = p;
-  if (found == kNone) {
-    found = static_cast<std::uint32_t>(patterns.size());
-    patterns.push_back({arity, static_cast<std::uint32_t>(pattern_weights.size()), scale});
-    pattern_weights.insert(pattern_weights.end(), weights.begin(), weights.end());
-  }
-  row_pattern.push_back(found);
-  indices.insert(indices.end(), sources.begin(), sources.end());
 }
 
 std::size_t LiftingStep::memory_bytes() const {
-  return (row_pattern.capacity() + indices.capacity()) * sizeof(std::uint32_t) + patterns.capacity() * sizeof(Pattern) +
+  return indices.capacity() * sizeof(std::uint32_t) + runs.capacity() * sizeof(Run) + patterns.capacity() * sizeof(Pattern) +
          pattern_weights.capacity() * sizeof(double);
 }
 
 namespace {
 
-// One row in the synthesis direction: x[t] = scale x[t] + sum_k w_k x[i_k], with C channels and
-// A sources known at compile time where it matters (A = 0: read from the pattern). Fixed
-// summation order (scale term first, then the sources in table order) so that every build of
-// the decoder computes the same bits.
+/// How many source entries ahead the loops prefetch (at most LiftingStep::kPadding): about
+/// eight rows, as sources are scattered over a level larger than the caches.
+constexpr std::uint32_t kPrefetchDistance = LiftingStep::kPadding;
+
+// `rows` rows of one pattern in the synthesis direction: x[t] = scale x[t] + sum_k w_k x[i_k],
+// with C channels and A sources known at compile time where it matters (0: read at run time).
+// Fixed summation order (scale term first, then the sources in table order) so that every build
+// of the decoder computes the same bits.
 template <int C, int A>
-inline const std::uint32_t* synthesize_row(double* __restrict x, double* __restrict target, const std::uint32_t* idx,
-                                           const double* w, double scale, std::uint32_t arity, int channels) {
+const std::uint32_t* synthesize_run(double* __restrict x, double* __restrict target, const std::uint32_t* idx,
+                                    const LiftingStep::Pattern& p, const double* w, std::uint32_t rows, int channels) {
   const int n = C > 0 ? C : channels;
-  const std::uint32_t count = A > 0 ? static_cast<std::uint32_t>(A) : arity;
-  double acc[C > 0 ? C : 64];
-  for (int c = 0; c < n; ++c) acc[c] = scale * target[c];
-  for (std::uint32_t k = 0; k < count; ++k) {
-    // Sources are scattered over a level larger than the caches: fetch those of a row about
-    // eight rows ahead (the index array is padded so this never reads past its end).
-    __builtin_prefetch(x + static_cast<std::size_t>(idx[k + kPrefetchDistance]) * n);
-    const double* source = x + static_cast<std::size_t>(idx[k]) * n;
-    for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
-  }
-  for (int c = 0; c < n; ++c) target[c] = acc[c];
-  return idx + count;
-}
-
-template <int C>
-void step_synthesis(const LiftingStep& s, double* x, int channels) {
-  const int n = C > 0 ? C : channels;
-  const std::uint32_t* idx = s.indices.data();
-  const LiftingStep::Pattern* patterns = s.patterns.data();
-  const double* weights = s.pattern_weights.data();
-  double* target = x + static_cast<std::size_t>(s.first_target) * n;
-  for (const std::uint32_t pattern : s.row_pattern) {
-    const LiftingStep::Pattern& p = patterns[pattern];
-    const double* w = weights + p.first_weight;
-    // The regular rows: 2 (linear, boundary), 4 (Loop interior edge, 4-point), 6 and 8 (Loop even
-    // and butterfly); the rest (extraordinary vertices) take the generic loop.
-    switch (p.arity) {
-      case 2:
-        idx = synthesize_row<C, 2>(x, target, idx, w, p.scale, 2, n);
-        break;
-      case 4:
-        idx = synthesize_row<C, 4>(x, target, idx, w, p.scale, 4, n);
-        break;
-      case 6:
-        idx = synthesize_row<C, 6>(x, target, idx, w, p.scale, 6, n);
-        break;
-      case 8:
-        idx = synthesize_row<C, 8>(x, target, idx, w, p.scale, 8, n);
-        break;
-      default:
-        idx = synthesize_row<C, 0>(x, target, idx, w, p.scale, p.arity, n);
-    }
-    target += n;
-  }
-}
-
-// The inverse: x[t] = (x[t] - sum_k w_k x[i_k]) / scale.
-template <int C>
-void step_analysis(const LiftingStep& s, double* x, int channels) {
-  const int n = C > 0 ? C : channels;
-  const std::uint32_t* idx = s.indices.data();
-  double* target = x + static_cast<std::size_t>(s.first_target) * n;
-  for (const std::uint32_t pattern : s.row_pattern) {
-    const LiftingStep::Pattern& p = s.patterns[pattern];
-    const double* w = s.pattern_weights.data() + p.first_weight;
-    double acc[C > 0 ? C : 64] = {};
-    for (std::uint32_t k = 0; k < p.arity; ++k) {
+  const std::uint32_t arity = A > 0 ? static_cast<std::uint32_t>(A) : p.arity;
+  const double scale = p.scale;
+  for (std::uint32_t r = 0; r < rows; ++r, target += n, idx += arity) {
+    double acc[C > 0 ? C : 64];
+    for (int c = 0; c < n; ++c) acc[c] = scale * target[c];
+    for (std::uint32_t k = 0; k < arity; ++k) {
       __builtin_prefetch(x + static_cast<std::size_t>(idx[k + kPrefetchDistance]) * n);
       const double* source = x + static_cast<std::size_t>(idx[k]) * n;
       for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
     }
-    idx += p.arity;
-    for (int c = 0; c < n; ++c) target[c] = (target[c] - acc[c]) / p.scale;
-    target += n;
+    for (int c = 0; c < n; ++c) target[c] = acc[c];
   }
+  return idx;
+}
+
+// The inverse: x[t] = (x[t] - sum_k w_k x[i_k]) / scale, the sum from zero in table order.
+template <int C, int A>
+const std::uint32_t* analyze_run(double* __restrict x, double* __restrict target, const std::uint32_t* idx,
+                                 const LiftingStep::Pattern& p, const double* w, std::uint32_t rows, int channels) {
+  const int n = C > 0 ? C : channels;
+  const std::uint32_t arity = A > 0 ? static_cast<std::uint32_t>(A) : p.arity;
+  const double scale = p.scale;
+  for (std::uint32_t r = 0; r < rows; ++r, target += n, idx += arity) {
+    double acc[C > 0 ? C : 64] = {};
+    for (std::uint32_t k = 0; k < arity; ++k) {
+      __builtin_prefetch(x + static_cast<std::size_t>(idx[k + kPrefetchDistance]) * n);
+      const double* source = x + static_cast<std::size_t>(idx[k]) * n;
+      for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
+    }
+    for (int c = 0; c < n; ++c) target[c] = (target[c] - acc[c]) / scale;
+  }
+  return idx;
+}
+
+// One step, run by run. The regular rows take a specialized loop: 2 sources (linear, boundary),
+// 4 (Loop interior edge, 4-point), 6 and 8 (Loop even vertex, butterfly); the rest (extraordinary
+// vertices) the generic one.
+template <bool Synthesis, int C>
+void apply_step(const LiftingStep& s, double* x, int channels) {
+  const int n = C > 0 ? C : channels;
+  const std::uint32_t* idx = s.indices.data();
+  double* target = x + static_cast<std::size_t>(s.first_target) * n;
+  for (const LiftingStep::Run& run : s.runs) {
+    const LiftingStep::Pattern& p = s.patterns[run.pattern];
+    const double* w = s.pattern_weights.data() + p.first_weight;
+    auto apply = [&]<int A>() {
+      idx = Synthesis ? synthesize_run<C, A>(x, target, idx, p, w, run.rows, n)
+                      : analyze_run<C, A>(x, target, idx, p, w, run.rows, n);
+    };
+    switch (p.arity) {
+      case 2:
+        apply.template operator()<2>();
+        break;
+      case 4:
+        apply.template operator()<4>();
+        break;
+      case 6:
+        apply.template operator()<6>();
+        break;
+      case 8:
+        apply.template operator()<8>();
+        break;
+      default:
+        apply.template operator()<0>();
+    }
+    target += static_cast<std::size_t>(run.rows) * n;
+  }
+}
+
+template <bool Synthesis>
+void apply_step(const LiftingStep& s, double* x, int channels) {
+  // Positions (3) and the encoder's single-channel impulse responses (1) get unrolled loops.
+  if (channels == 3)
+    apply_step<Synthesis, 3>(s, x, 3);
+  else if (channels == 1)
+    apply_step<Synthesis, 1>(s, x, 1);
+  else
+    apply_step<Synthesis, 0>(s, x, channels);
 }
 
 void check_channels(int channels) {
@@ -193,12 +182,7 @@ void WaveletTransform::analyze(std::span<double> values, int channels) const {
     throw std::invalid_argument("analyze: values hold fewer vertices than the finest level");
   for (int j = levels() - 1; j >= 0; --j) {
     const auto& steps = steps_[j];
-    for (auto it = steps.rbegin(); it != steps.rend(); ++it) {
-      if (channels == 3)
-        step_analysis<3>(*it, values.data(), 3);
-      else
-        step_analysis<0>(*it, values.data(), channels);
-    }
+    for (auto it = steps.rbegin(); it != steps.rend(); ++it) apply_step<false>(*it, values.data(), channels);
   }
 }
 
@@ -210,12 +194,7 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
   if (values.size() < static_cast<std::size_t>(vertex_counts_[to_level]) * channels)
     throw std::invalid_argument("synthesize: values hold fewer vertices than the requested level");
   for (int j = from_level; j < to_level; ++j)
-    for (const LiftingStep& step : steps_[j]) {
-      if (channels == 3)
-        step_synthesis<3>(step, values.data(), 3);
-      else
-        step_synthesis<0>(step, values.data(), channels);
-    }
+    for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels);
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

@@ -2,47 +2,137 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
+#include <unordered_map>
 #include <utility>
 
 namespace meshlift::stencils {
 namespace {
 
-/// Accumulates one row, merging repeated sources, then appends it to a step.
+/// Accumulates one row, merging repeated sources (a vertex reached twice, as near a valence-3
+/// vertex or across a reflected tip, gets the sum of its weights, added in first-seen order).
 class RowBuilder {
  public:
   void add(std::uint32_t index, double weight) {
-    for (auto& [i, w] : entries_)
-      if (i == index) {
-        w += weight;
+    for (std::size_t k = 0; k < sources_.size(); ++k)
+      if (sources_[k] == index) {
+        weights_[k] += weight;
         return;
       }
-    entries_.emplace_back(index, weight);
+    sources_.push_back(index);
+    weights_.push_back(weight);
   }
-  void finish(LiftingStep& step, double scale = 1.0) {
+  std::span<const std::uint32_t> sources() const { return sources_; }
+  std::span<const double> weights() const { return weights_; }
+  void clear() {
     sources_.clear();
     weights_.clear();
-    for (const auto& [i, w] : entries_) {
-      sources_.push_back(i);
-      weights_.push_back(w);
-    }
-    step.append_row(scale, sources_, weights_);
-    entries_.clear();
   }
 
  private:
-  std::vector<std::pair<std::uint32_t, double>> entries_;
   std::vector<std::uint32_t> sources_;
   std::vector<double> weights_;
 };
 
-LiftingStep empty_step(std::uint32_t first_target, std::size_t rows, std::size_t entries_per_row) {
-  LiftingStep step;
-  step.first_target = first_target;
-  step.row_pattern.reserve(rows);
-  step.indices.reserve(rows * entries_per_row);
-  return step;
-}
+/// Writes the rows of one step, in target order, into an index array sized once from an estimate
+/// of its entries (exact for closed meshes), and groups them into runs of one pattern. Rows of a
+/// pattern the caller already holds (the regular ones) cost a copy of their sources; other rows
+/// find their pattern by value.
+class StepWriter {
+ public:
+  StepWriter(std::uint32_t first_target, std::size_t expected_entries) {
+    step_.first_target = first_target;
+    step_.indices.resize(expected_entries + LiftingStep::kPadding);
+  }
+
+  /// The pattern with exactly this scale and these weights (compared as values, as the rows that
+  /// share it are computed with them), added if there is none.
+  std::uint32_t pattern(double scale, std::span<const double> weights) {
+    const auto arity = static_cast<std::uint32_t>(weights.size());
+    auto matches = [&](std::uint32_t p) {
+      const LiftingStep::Pattern& candidate = step_.patterns[p];
+      return candidate.arity == arity && candidate.scale == scale &&
+             std::equal(weights.begin(), weights.end(), step_.pattern_weights.begin() + candidate.first_weight);
+    };
+    // Consecutive rows mostly repeat the previous row's pattern: try it before hashing.
+    if (!step_.runs.empty() && matches(step_.runs.back().pattern)) return step_.runs.back().pattern;
+    const std::uint64_t key = hash(scale, weights);
+    const auto [first, last] = by_hash_.equal_range(key);
+    for (auto it = first; it != last; ++it)
+      if (matches(it->second)) return it->second;
+    const auto p = static_cast<std::uint32_t>(step_.patterns.size());
+    step_.patterns.push_back({arity, static_cast<std::uint32_t>(step_.pattern_weights.size()), scale});
+    step_.pattern_weights.insert(step_.pattern_weights.end(), weights.begin(), weights.end());
+    by_hash_.emplace(key, p);
+    return p;
+  }
+
+  /// A row of `pattern`; its sources are distinct and in the pattern's weight order.
+  void row(std::uint32_t pattern, std::span<const std::uint32_t> sources) {
+    std::uint32_t* out = room(sources.size());
+    for (std::size_t k = 0; k < sources.size(); ++k) out[k] = sources[k];
+    used_ += sources.size();
+    count(pattern);
+  }
+  /// The same with the arity known at compile time (the regular rows).
+  template <std::size_t N>
+  void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
+    std::uint32_t* out = room(N);
+    for (std::size_t k = 0; k < N; ++k) out[k] = sources[k];
+    used_ += N;
+    count(pattern);
+  }
+  void row(const RowBuilder& builder, double scale = 1.0) { row(pattern(scale, builder.weights()), builder.sources()); }
+  /// A row of `pattern` whose `arity` sources the caller writes later, at its offset in indices().
+  void reserve_row(std::uint32_t pattern, std::uint32_t arity) {
+    room(arity);
+    used_ += arity;
+    count(pattern);
+  }
+  /// Room for `n` more entries, so that rows reserved now are not moved by later ones.
+  void reserve(std::size_t n) { room(n); }
+  std::uint32_t* indices() { return step_.indices.data(); }
+  std::size_t entries() const { return used_; }
+
+  LiftingStep finish() {
+    // Keep the padding; give back a large overestimate (boundary rows are shorter than interior ones).
+    step_.indices.resize(used_ + LiftingStep::kPadding);
+    if (step_.indices.capacity() > step_.indices.size() + step_.indices.size() / 8) step_.indices.shrink_to_fit();
+    step_.runs.shrink_to_fit();
+    return std::move(step_);
+  }
+
+ private:
+  std::uint32_t* room(std::size_t n) {
+    // Only rows beyond the estimate get here (butterfly's longer rows near extraordinary vertices).
+    if (used_ + n + LiftingStep::kPadding > step_.indices.size())
+      step_.indices.resize(2 * (used_ + n) + LiftingStep::kPadding);
+    return step_.indices.data() + used_;
+  }
+  void count(std::uint32_t pattern) {
+    if (step_.runs.empty() || step_.runs.back().pattern != pattern) step_.runs.push_back({pattern, 0});
+    ++step_.runs.back().rows;
+    ++step_.row_count;
+  }
+  // FNV-1a over the values; +0.0 and -0.0 compare equal, so they hash alike.
+  static std::uint64_t hash(double scale, std::span<const double> weights) {
+    std::uint64_t h = 14695981039346656037ull;
+    auto mix = [&h](double x) {
+      std::uint64_t bits;
+      x = x == 0.0 ? 0.0 : x;
+      std::memcpy(&bits, &x, sizeof bits);
+      h = (h ^ bits) * 1099511628211ull;
+    };
+    mix(scale);
+    for (double w : weights) mix(w);
+    return h ^ weights.size();
+  }
+
+  LiftingStep step_;
+  std::size_t used_ = 0;
+  std::unordered_multimap<std::uint64_t, std::uint32_t> by_hash_;
+};
 
 std::uint32_t other_face(const TriangleTopology& t, std::uint32_t e, std::uint32_t f) {
   return t.edge_faces[2 * e] == f ? t.edge_faces[2 * e + 1] : t.edge_faces[2 * e];
@@ -147,103 +237,243 @@ void butterfly_row(const TriangleTopology& t, const VertexEdges& ve, std::uint32
   }
 }
 
-/// The wing vertices of every edge, 2 per edge: the vertex opposite the edge in edge_faces[2e],
-/// then in edge_faces[2e+1] (kNone on a boundary). One pass over the faces.
-std::vector<std::uint32_t> wing_vertices(const TriangleTopology& t) {
-  std::vector<std::uint32_t> wings(2 * t.edge_count(), kNone);
-  for (std::uint32_t f = 0; f < t.face_count(); ++f)
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t e = t.face_edges[3 * f + i];
-      wings[2 * e + (t.edge_faces[2 * e] == f ? 0 : 1)] = t.triangles[3 * f + (i + 2) % 3];
+/// Appends one row per vertex v < `vertices`: the sources source(e, k) of the edges e of
+/// `topology` with v as endpoint k (edge_vertices[2e + k]), in ascending e; all of them, or for a
+/// vertex on the boundary, if `boundary_rows_take_boundary_edges`, only its boundary edges.
+/// row_pattern(v, arity, on_boundary) gives the pattern of v's row. A counting sort over the
+/// edges writes the sources straight into the table, with no per-vertex edge list.
+template <class Source, class RowPattern>
+void append_vertex_rows(StepWriter& step, const TriangleTopology& topology, std::uint32_t vertices,
+                        bool boundary_rows_take_boundary_edges, Source&& source, RowPattern&& row_pattern) {
+  const auto E = static_cast<std::uint32_t>(topology.edge_count());
+  std::vector<std::uint32_t> valence(vertices, 0), boundary_edges(vertices, 0);
+  for (std::uint32_t e = 0; e < E; ++e) {
+    const std::uint32_t a = topology.edge_vertices[2 * e], b = topology.edge_vertices[2 * e + 1];
+    ++valence[a];
+    ++valence[b];
+    if (topology.is_boundary_edge(e)) ++boundary_edges[a], ++boundary_edges[b];
+  }
+  auto arity = [&](std::uint32_t v) {
+    return boundary_rows_take_boundary_edges && boundary_edges[v] > 0 ? boundary_edges[v] : valence[v];
+  };
+  std::size_t entries = 0;
+  for (std::uint32_t v = 0; v < vertices; ++v) entries += arity(v);
+  step.reserve(entries);
+  // valence[v] becomes the write position of v's row.
+  for (std::uint32_t v = 0; v < vertices; ++v) {
+    const std::uint32_t n = arity(v);
+    const auto at = static_cast<std::uint32_t>(step.entries());
+    step.reserve_row(row_pattern(v, n, boundary_edges[v] > 0), n);
+    valence[v] = at;
+  }
+  std::uint32_t* indices = step.indices();
+  for (std::uint32_t e = 0; e < E; ++e) {
+    const bool boundary = topology.is_boundary_edge(e);
+    for (std::uint32_t k = 0; k < 2; ++k) {
+      const std::uint32_t v = topology.edge_vertices[2 * e + k];
+      if (boundary || !boundary_rows_take_boundary_edges || boundary_edges[v] == 0) indices[valence[v]++] = source(e, k);
     }
-  return wings;
+  }
+}
+
+/// The patterns of Loop's vertex rule over the odd vertices (CODEC-NOTES §3), each made once.
+class LoopUpdatePatterns {
+ public:
+  explicit LoopUpdatePatterns(StepWriter& step) : step_(step) {}
+  std::uint32_t operator()(std::uint32_t n, bool on_boundary) {
+    if (n == 0) {
+      // Isolated vertex: nothing to average.
+      if (isolated_ == kNone) isolated_ = step_.pattern(1.0, {});
+      return isolated_;
+    }
+    if (on_boundary) {
+      // Boundary even: v' = v/2 + (odd_l + odd_r)/4 over the two boundary-edge odds, which equals
+      // Loop's boundary rule 3/4 v + 1/8 (b_l + b_r) since odd = (v + b)/2 there.
+      if (n != 2) return step_.pattern(0.5, std::vector<double>(n, 0.25));
+      if (boundary_ == kNone) boundary_ = step_.pattern(0.5, std::vector<double>(2, 0.25));
+      return boundary_;
+    }
+    // Interior even: sum of its n odds = 3n/8 v + 5/8 sum(v_i), so Loop's
+    // v' = (1 - n beta) v + beta sum(v_i) = s_n v + w_n sum(odd), w_n = 8 beta / 5, s_n = 1 - n w_n.
+    if (of_valence_.size() <= n) of_valence_.resize(n + 1, kNone);
+    if (of_valence_[n] == kNone) {
+      const double w = 8.0 * loop_beta(n) / 5.0;
+      of_valence_[n] = step_.pattern(1.0 - n * w, std::vector<double>(n, w));
+    }
+    return of_valence_[n];
+  }
+
+ private:
+  StepWriter& step_;
+  std::vector<std::uint32_t> of_valence_;
+  std::uint32_t boundary_ = kNone, isolated_ = kNone;
+};
+
+/// Where edge e sits in face f: face edge i runs corner i -> i+1.
+std::uint32_t edge_in_face(const TriangleTopology& t, std::uint32_t f, std::uint32_t e) {
+  const std::uint32_t* fe = &t.face_edges[3 * f];
+  return fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
+}
+
+/// The vertex of face f opposite its edge e.
+std::uint32_t opposite(const TriangleTopology& t, std::uint32_t f, std::uint32_t e) {
+  return t.triangles[3 * f + (edge_in_face(t, f, e) + 2) % 3];
+}
+
+/// Loop's interior edge row (a, b, c, d) with weights 3/8, 3/8, 1/8, 1/8; c == d (both faces of
+/// the edge share their third vertex, a two-face "pillow") merges into one source of weight 1/4.
+void loop_edge_row(StepWriter& step, std::uint32_t interior, const std::uint32_t (&sources)[4], const double* weights) {
+  if (sources[2] != sources[3]) {
+    step.row(interior, sources);
+    return;
+  }
+  RowBuilder row;
+  for (int k = 0; k < 4; ++k) row.add(sources[k], weights[k]);
+  step.row(row);
 }
 
 }  // namespace
 
-LiftingStep predict(const TriangleTopology& t, const VertexEdges& ve, Scheme scheme) {
-  LiftingStep step = empty_step(t.vertex_count, t.edge_count(), 4);
-  RowBuilder row;
-  const std::vector<std::uint32_t> wings = scheme == Scheme::loop ? wing_vertices(t) : std::vector<std::uint32_t>{};
-  for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
-    const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
-    switch (scheme) {
-      case Scheme::linear:
-        // odd = (a + b) / 2
-        row.add(a, 0.5);
-        row.add(b, 0.5);
-        break;
-      case Scheme::butterfly:
+LiftingStep predict(const TriangleTopology& t, Scheme scheme) {
+  const auto E = static_cast<std::uint32_t>(t.edge_count());
+  StepWriter step(t.vertex_count, std::size_t{scheme == Scheme::butterfly ? 8u : scheme == Scheme::loop ? 4u : 2u} * E);
+  // odd = (a + b) / 2: linear everywhere, and Loop on a boundary edge (cubic B-spline midpoint rule).
+  const double midpoint[] = {0.5, 0.5};
+  // Loop on an interior edge: odd = 3/8 (a + b) + 1/8 (c + d), c, d the wing vertices.
+  const double loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
+  switch (scheme) {
+    case Scheme::linear: {
+      const std::uint32_t pattern = step.pattern(1.0, midpoint);
+      for (std::uint32_t e = 0; e < E; ++e) step.row(pattern, {t.edge_vertices[2 * e], t.edge_vertices[2 * e + 1]});
+      break;
+    }
+    case Scheme::butterfly: {
+      const VertexEdges ve(t);
+      RowBuilder row;
+      for (std::uint32_t e = 0; e < E; ++e) {
         butterfly_row(t, ve, e, row);
-        break;
-      case Scheme::loop:
-        if (t.is_boundary_edge(e)) {
-          // Boundary edge: odd = (a + b) / 2 (cubic B-spline midpoint rule).
-          row.add(a, 0.5);
-          row.add(b, 0.5);
-        } else {
-          // Interior edge: odd = 3/8 (a + b) + 1/8 (c + d), c, d the wing vertices.
-          row.add(a, 3.0 / 8);
-          row.add(b, 3.0 / 8);
-          row.add(wings[2 * e], 1.0 / 8);
-          row.add(wings[2 * e + 1], 1.0 / 8);
-        }
-        break;
-    }
-    row.finish(step);
-  }
-  return step;
-}
-
-LiftingStep loop_update(const TriangleTopology& t, const VertexEdges& ve) {
-  const std::uint32_t V = t.vertex_count;
-  LiftingStep step = empty_step(0, V, 6);
-  RowBuilder row;
-  std::vector<double> w_by_valence;  // w_n, computed once per valence
-  for (std::uint32_t v = 0; v < V; ++v) {
-    const unsigned n = ve.valence(v);
-    double scale = 1.0;  // isolated vertex: nothing to average
-    if (n == 0) {
-    } else if (ve.boundary[v]) {
-      // Boundary even: v' = v/2 + (odd_l + odd_r)/4 over the two boundary-edge odds, which equals
-      // Loop's boundary rule 3/4 v + 1/8 (b_l + b_r) since odd = (v + b)/2 there.
-      scale = 0.5;
-      for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k)
-        if (t.is_boundary_edge(ve.edges[k])) row.add(V + ve.edges[k], 0.25);
-    } else {
-      // Interior even: sum of its n odds = 3n/8 v + 5/8 sum(v_i), so Loop's
-      // v' = (1 - n beta) v + beta sum(v_i) = s_n v + w_n sum(odd), w_n = 8 beta / 5, s_n = 1 - n w_n.
-      while (w_by_valence.size() <= n) {
-        const auto k = static_cast<unsigned>(w_by_valence.size());
-        w_by_valence.push_back(k == 0 ? 0.0 : 8.0 * loop_beta(k) / 5.0);
+        step.row(row);
+        row.clear();
       }
-      const double w = w_by_valence[n];
-      scale = 1.0 - n * w;
-      for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k) row.add(V + ve.edges[k], w);
+      break;
     }
-    row.finish(step, scale);
+    case Scheme::loop: {
+      const std::uint32_t boundary = step.pattern(1.0, midpoint), interior = step.pattern(1.0, loop_interior);
+      for (std::uint32_t e = 0; e < E; ++e) {
+        const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
+        if (t.is_boundary_edge(e))
+          step.row(boundary, {a, b});
+        else
+          loop_edge_row(step, interior, {a, b, opposite(t, t.edge_faces[2 * e], e), opposite(t, t.edge_faces[2 * e + 1], e)},
+                        loop_interior);
+      }
+      break;
+    }
   }
-  return step;
+  return step.finish();
 }
 
-LiftingStep mean_preserving_update(const TriangleTopology& t, const VertexEdges& ve, const LiftingStep& predict) {
-  const std::uint32_t V = t.vertex_count;
+LiftingStep loop_update(const TriangleTopology& t) {
+  // Each vertex lists at most its valence: at most 2E sources (exactly, on a closed mesh).
+  StepWriter step(0, 2 * t.edge_count());
+  LoopUpdatePatterns pattern(step);
+  append_vertex_rows(
+      step, t, t.vertex_count, true, [V = t.vertex_count](std::uint32_t e, std::uint32_t) { return V + e; },
+      [&](std::uint32_t, std::uint32_t n, bool on_boundary) { return pattern(n, on_boundary); });
+  return step.finish();
+}
+
+// The refined level's rows read off the coarse level by the 1:4 rule of TriangleTopology::refined()
+// (coarse edge e = (a, b) with odd vertex m = V + e becomes halves 2e = (a, m) and 2e+1 = (m, b);
+// coarse face f with corners c_i, face edges e_i (c_i -> c_{i+1}) and m_i = V + e_i becomes corner
+// faces (c_i, m_i, m_{i+2}) and the centre (m_0, m_1, m_2); inner edge 2E + 3f + i runs
+// m_{i+2} -> m_{i+1}). Each fine edge's wings are then known without searching fine faces.
+
+LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
+  const std::uint32_t V = coarse.vertex_count;
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  StepWriter step(fine.vertex_count, 4 * fine.edge_count());
+  const double midpoint[] = {0.5, 0.5}, loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
+  const std::uint32_t boundary = step.pattern(1.0, midpoint), interior = step.pattern(1.0, loop_interior);
+  // Halves. Face f0 = edge_faces[2e] runs a -> b with e its edge i0: its corner face at a opposes
+  // the half at a with m_{i0+2}, its corner face at b opposes the half at b with m_{i0+1}. Face
+  // f1 runs b -> a with e its edge i1: at b it opposes m_{i1+2}, at a m_{i1+1}. The face running
+  // a half as stored is its first face, as for every edge.
+  for (std::uint32_t e = 0; e < E; ++e) {
+    const std::uint32_t a = coarse.edge_vertices[2 * e], b = coarse.edge_vertices[2 * e + 1], m = V + e;
+    const std::uint32_t f0 = coarse.edge_faces[2 * e], f1 = coarse.edge_faces[2 * e + 1];
+    if (f1 == kNone) {
+      step.row(boundary, {a, m});
+      step.row(boundary, {m, b});
+      continue;
+    }
+    const std::uint32_t i0 = edge_in_face(coarse, f0, e), i1 = edge_in_face(coarse, f1, e);
+    const std::uint32_t* m0 = &coarse.face_edges[3 * f0];
+    const std::uint32_t* m1 = &coarse.face_edges[3 * f1];
+    loop_edge_row(step, interior, {a, m, V + m0[(i0 + 2) % 3], V + m1[(i1 + 1) % 3]}, loop_interior);
+    loop_edge_row(step, interior, {m, b, V + m0[(i0 + 1) % 3], V + m1[(i1 + 2) % 3]}, loop_interior);
+  }
+  // Inner edge i of face f, m_{i+2} -> m_{i+1}: its first face is the corner face at c_{i+2}, its
+  // second the centre face, opposite m_i.
+  for (std::uint32_t f = 0; f < F; ++f) {
+    const std::uint32_t* c = &coarse.triangles[3 * f];
+    const std::uint32_t m[3] = {V + coarse.face_edges[3 * f], V + coarse.face_edges[3 * f + 1],
+                                V + coarse.face_edges[3 * f + 2]};
+    for (int i = 0; i < 3; ++i) step.row(interior, {m[(i + 2) % 3], m[(i + 1) % 3], c[(i + 2) % 3], m[i]});
+  }
+  return step.finish();
+}
+
+LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
+  const std::uint32_t V = coarse.vertex_count, fine_V = fine.vertex_count;
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count());
+  StepWriter step(0, 2 * fine.edge_count());
+  LoopUpdatePatterns pattern(step);
+  // Even vertices keep their valence and boundary; their fine edges are the halves at them of
+  // their coarse edges (2e at a, 2e+1 at b), in the same order.
+  append_vertex_rows(
+      step, coarse, V, true, [fine_V](std::uint32_t e, std::uint32_t k) { return fine_V + 2 * e + k; },
+      [&](std::uint32_t, std::uint32_t n, bool on_boundary) { return pattern(n, on_boundary); });
+  // Odd vertex m = V + e: the halves 2e, 2e+1, then in each face of e (lower index first) the two
+  // inner edges at m, those not parallel to e (i+1 and i+2 if e is its edge i), in ascending
+  // order; on the boundary only the two halves.
+  const std::uint32_t regular = pattern(6, false), boundary = pattern(2, true);
+  for (std::uint32_t e = 0; e < E; ++e) {
+    const std::uint32_t h = fine_V + 2 * e;
+    std::uint32_t f0 = coarse.edge_faces[2 * e], f1 = coarse.edge_faces[2 * e + 1];
+    if (f1 == kNone) {
+      step.row(boundary, {h, h + 1});
+      continue;
+    }
+    if (f1 < f0) std::swap(f0, f1);
+    const std::uint32_t i0 = edge_in_face(coarse, f0, e), i1 = edge_in_face(coarse, f1, e);
+    const std::uint32_t inner0 = fine_V + 2 * E + 3 * f0, inner1 = fine_V + 2 * E + 3 * f1;
+    step.row(regular, {h, h + 1, inner0 + (i0 == 0 ? 1 : 0), inner0 + (i0 == 2 ? 1 : 2), inner1 + (i1 == 0 ? 1 : 0),
+                       inner1 + (i1 == 2 ? 1 : 2)});
+  }
+  return step.finish();
+}
+
+LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep& predict) {
   // c_l = sum over odd k of p(k, l): how much of the fine signal even vertex l predicts.
-  std::vector<double> column_sum(V, 0.0);
+  std::vector<double> column_sum(t.vertex_count, 0.0);
   const std::uint32_t* source = predict.indices.data();
-  for (std::uint32_t pattern : predict.row_pattern) {
-    const LiftingStep::Pattern& p = predict.patterns[pattern];
-    for (std::uint32_t k = 0; k < p.arity; ++k) column_sum[*source++] += predict.pattern_weights[p.first_weight + k];
+  for (const LiftingStep::Run& run : predict.runs) {
+    const LiftingStep::Pattern& p = predict.patterns[run.pattern];
+    for (std::uint32_t r = 0; r < run.rows; ++r)
+      for (std::uint32_t k = 0; k < p.arity; ++k) column_sum[*source++] += predict.pattern_weights[p.first_weight + k];
   }
-  LiftingStep step = empty_step(0, V, 6);
-  RowBuilder row;
-  for (std::uint32_t v = 0; v < V; ++v) {
-    const double mass = 1.0 + column_sum[v];
-    const double lambda = mass > 1e-3 ? 1.0 / (2.0 * mass) : 0.0;
-    for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k) row.add(V + ve.edges[k], -lambda);
-    row.finish(step);
-  }
-  return step;
+  StepWriter step(0, 2 * t.edge_count());
+  std::vector<double> weights;
+  append_vertex_rows(
+      step, t, t.vertex_count, false, [V = t.vertex_count](std::uint32_t e, std::uint32_t) { return V + e; },
+      [&](std::uint32_t v, std::uint32_t n, bool) {
+        const double mass = 1.0 + column_sum[v];
+        const double lambda = mass > 1e-3 ? 1.0 / (2.0 * mass) : 0.0;
+        weights.assign(n, -lambda);
+        return step.pattern(1.0, weights);
+      });
+  return step.finish();
 }
 
 }  // namespace meshlift::stencils

@@ -39,24 +39,34 @@ struct WaveletOptions {
 /// and in analysis the inverse x[t] = (x[t] - sum_k weight_k * x[source_k]) / scale.
 /// Targets and sources are disjoint vertex sets (odd and even), so each step is exactly invertible.
 /// Rows share their weights: a scheme has only a handful of distinct rows (regular, boundary,
-/// one per extraordinary valence and ring position), so each row stores a pattern number and its
-/// source indices; the pattern holds the scale and the weights. This halves the bytes the hot
-/// loop streams compared with per-entry weights.
+/// one per extraordinary valence and ring position), so each row stores only its source indices
+/// and a pattern holds the scale and the weights. On a semi-regular mesh nearly every row is the
+/// regular one, so the rows are stored as runs of consecutive rows of one pattern: the hot loops
+/// read one pattern per run, not one per row, and run the regular rows with their arity known at
+/// compile time.
 struct LiftingStep {
   struct Pattern {
     std::uint32_t arity = 0;         ///< number of sources
     std::uint32_t first_weight = 0;  ///< into pattern_weights
     double scale = 1.0;
   };
-  std::uint32_t first_target = 0;          ///< rows are vertices first_target .. first_target + rows() - 1
-  std::vector<std::uint32_t> row_pattern;  ///< one per row
-  std::vector<std::uint32_t> indices;      ///< sources, row after row
+  /// `rows` consecutive rows of one pattern.
+  struct Run {
+    std::uint32_t pattern = 0;
+    std::uint32_t rows = 0;
+  };
+  /// `indices` is followed by this many more entries (zeros), so that the loops over it may read
+  /// the sources of rows ahead (to prefetch them) without a bounds check.
+  static constexpr std::uint32_t kPadding = 48;
+
+  std::uint32_t first_target = 0;  ///< rows are vertices first_target .. first_target + rows() - 1
+  std::uint32_t row_count = 0;
+  std::vector<Run> runs;
+  std::vector<std::uint32_t> indices;  ///< sources, row after row, then kPadding zeros
   std::vector<Pattern> patterns;
   std::vector<double> pattern_weights;
 
-  std::size_t rows() const { return row_pattern.size(); }
-  /// Appends a row; `sources` and `weights` have equal length. Identical rows share a pattern.
-  void append_row(double scale, std::span<const std::uint32_t> sources, std::span<const double> weights);
+  std::size_t rows() const { return row_count; }
   std::size_t memory_bytes() const;
 };
 
