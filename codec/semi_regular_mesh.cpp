@@ -32,33 +32,24 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
   }
   if (levels == 0) finest_triangles_ = topologies_.back().triangles;  // the base is also the finest level
 
-  // Coefficient tree (CODEC-NOTES §1): edge e of level j (j >= 1) came from edge e/2 of level j-1
-  // if it is a half (e < 2E_{j-1}), else it is inner edge i of face f, parallel to face edge i.
-  const std::uint32_t total = vertex_count(levels);
-  parent_.assign(total, kNone);
+  // Coefficient tree (CODEC-NOTES §1): the odd vertex on edge p of level j-1 has as children the
+  // odd vertices on the halves 2p, 2p+1 of p and on the inner edges 2E_{j-1} + 3f + i parallel to
+  // p (face edge i of f) in the faces f of p, in that (ascending) order.
+  if (levels >= 2) children_.assign(4 * std::size_t{vertex_count(levels - 1) - vertex_count(0)}, kNone);
   for (int j = 1; j < levels; ++j) {
     const TriangleTopology& coarse = topologies_[j - 1];
     const auto coarse_edges = static_cast<std::uint32_t>(coarse.edge_count());
-    const std::uint32_t edges = vertex_count(j + 1) - vertex_count(j);
-    for (std::uint32_t e = 0; e < edges; ++e) {
-      std::uint32_t p;
-      if (e < 2 * coarse_edges) {
-        p = e / 2;
-      } else {
-        const std::uint32_t inner = e - 2 * coarse_edges;
-        p = coarse.face_edges[3 * (inner / 3) + inner % 3];
-      }
-      parent_[odd_vertex(j, e)] = odd_vertex(j - 1, p);
+    std::uint32_t* slots = children_.data() + 4 * std::size_t{vertex_count(j - 1) - vertex_count(0)};
+    for (std::uint32_t p = 0; p < coarse_edges; ++p) {
+      slots[4 * p] = odd_vertex(j, 2 * p);
+      slots[4 * p + 1] = odd_vertex(j, 2 * p + 1);
     }
+    for (std::uint32_t f = 0; f < coarse.face_count(); ++f)
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        std::uint32_t* slot = slots + 4 * std::size_t{coarse.face_edges[3 * f + i]};
+        slot[slot[2] == kNone ? 2 : 3] = odd_vertex(j, 2 * coarse_edges + 3 * f + i);
+      }
   }
-  child_offsets_.assign(total + 1, 0);
-  for (std::uint32_t v = 0; v < total; ++v)
-    if (parent_[v] != kNone) ++child_offsets_[parent_[v] + 1];
-  for (std::uint32_t v = 0; v < total; ++v) child_offsets_[v + 1] += child_offsets_[v];
-  children_.resize(child_offsets_[total]);
-  std::vector<std::uint32_t> fill(child_offsets_.begin(), child_offsets_.end() - 1);
-  for (std::uint32_t v = 0; v < total; ++v)
-    if (parent_[v] != kNone) children_[fill[parent_[v]]++] = v;
 }
 
 int SemiRegularHierarchy::level_of(std::uint32_t vertex) const {
@@ -67,12 +58,25 @@ int SemiRegularHierarchy::level_of(std::uint32_t vertex) const {
   return -1;
 }
 
+std::uint32_t SemiRegularHierarchy::parent(std::uint32_t vertex) const {
+  // A vertex of level j >= 2 lies on edge e of level j-1, which came from edge p of level j-2:
+  // its half if e < 2 E_{j-2}, else inner edge e - 2 E_{j-2} = 3f + i, parallel to face edge i of f.
+  const int j = level_of(vertex);
+  if (j < 2) return kNone;
+  const TriangleTopology& coarse = topologies_[j - 2];
+  const std::uint32_t e = vertex - vertex_count(j - 1);
+  const auto coarse_edges = static_cast<std::uint32_t>(coarse.edge_count());
+  return odd_vertex(j - 2, e < 2 * coarse_edges ? e / 2 : coarse.face_edges[e - 2 * coarse_edges]);
+}
+
 std::span<const std::uint32_t> SemiRegularHierarchy::children(std::uint32_t vertex) const {
-  return {children_.data() + child_offsets_[vertex], children_.data() + child_offsets_[vertex + 1]};
+  if (vertex < vertex_count(0) || levels() < 2 || vertex >= vertex_count(levels() - 1)) return {};
+  const std::uint32_t* slots = children_.data() + 4 * std::size_t{vertex - vertex_count(0)};
+  return {slots, slots[3] == kNone ? 3u : 4u};
 }
 
 std::size_t SemiRegularHierarchy::memory_bytes() const {
-  std::size_t bytes = (parent_.capacity() + child_offsets_.capacity() + children_.capacity()) * sizeof(std::uint32_t);
+  std::size_t bytes = children_.capacity() * sizeof(std::uint32_t);
   for (const auto& t : topologies_)
     bytes += (t.triangles.capacity() + t.edge_vertices.capacity() + t.edge_faces.capacity() + t.face_edges.capacity()) *
              sizeof(std::uint32_t);

@@ -139,26 +139,31 @@ TriangleTopology TriangleTopology::refined() const {
   r.vertex_count = V + E;
   r.triangles = refined_triangles();
   r.edge_vertices.resize(2 * (2 * E + 3 * F));
-  r.edge_faces.assign(2 * (2 * E + 3 * F), kNone);
+  r.edge_faces.resize(2 * (2 * E + 3 * F));
   r.face_edges.resize(3 * 4 * F);
 
-  // Halves: edge e = (a, b) with midpoint m becomes 2e = (a, m) and 2e+1 = (m, b), same direction.
+  // Halves: edge e = (a, b) with midpoint m becomes 2e = (a, m) and 2e+1 = (m, b), same direction;
+  // the halves of a boundary edge are boundary edges (their second face is set below otherwise).
   for (std::uint32_t e = 0; e < E; ++e) {
     const std::uint32_t a = edge_vertices[2 * e], b = edge_vertices[2 * e + 1], m = V + e;
     r.edge_vertices[4 * e + 0] = a;
     r.edge_vertices[4 * e + 1] = m;
     r.edge_vertices[4 * e + 2] = m;
     r.edge_vertices[4 * e + 3] = b;
+    if (is_boundary_edge(e)) r.edge_faces[4 * e + 1] = r.edge_faces[4 * e + 3] = kNone;
   }
   for (std::uint32_t f = 0; f < F; ++f) {
-    std::uint32_t m[3], half_from[3], half_to[3], inner[3];
+    std::uint32_t m[3], half_from[3], half_to[3], inner[3], slot[3];
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t e = face_edges[3 * f + i];
       m[i] = V + e;
-      // The half of edge i that touches corner i, and the half that touches corner i+1.
+      // The half of edge i that touches corner i, and the half that touches corner i+1. Face f
+      // runs edge i as stored iff it is the edge's first face; its corner faces then run both
+      // halves as stored too, so they are the halves' first faces (slot 0), else their second.
       const bool forward = edge_vertices[2 * e] == triangles[3 * f + i];
       half_from[i] = forward ? 2 * e : 2 * e + 1;
       half_to[i] = forward ? 2 * e + 1 : 2 * e;
+      slot[i] = forward ? 0 : 1;
     }
     // Inner edge i joins m[i+2] -> m[i+1] (parallel to face edge i, run this way by a corner face).
     for (int i = 0; i < 3; ++i) {
@@ -169,23 +174,21 @@ TriangleTopology TriangleTopology::refined() const {
     // Corner face i (c_i, m_i, m_{i+2}): half of edge i at c_i, inner edge i+1, half of edge i+2
     // at c_i. Centre face (m0, m1, m2): inner edges 2, 0, 1, each run backwards.
     for (int i = 0; i < 3; ++i) {
-      std::uint32_t* fe = &r.face_edges[3 * (4 * f + i)];
+      const std::uint32_t face = 4 * f + i;
+      std::uint32_t* fe = &r.face_edges[3 * face];
       fe[0] = half_from[i];
       fe[1] = inner[(i + 1) % 3];
       fe[2] = half_to[(i + 2) % 3];
+      r.edge_faces[2 * half_from[i] + slot[i]] = face;
+      r.edge_faces[2 * inner[(i + 1) % 3]] = face;
+      r.edge_faces[2 * half_to[(i + 2) % 3] + slot[(i + 2) % 3]] = face;
     }
     std::uint32_t* centre = &r.face_edges[3 * (4 * f + 3)];
     centre[0] = inner[2];
     centre[1] = inner[0];
     centre[2] = inner[1];
+    for (int i = 0; i < 3; ++i) r.edge_faces[2 * inner[i] + 1] = 4 * f + 3;
   }
-  // Edge -> faces: slot 0 for the face running the edge as stored, slot 1 for the other.
-  for (std::uint32_t f = 0; f < 4 * F; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t e = r.face_edges[3 * f + k];
-      const bool forward = r.edge_vertices[2 * e] == r.triangles[3 * f + k];
-      r.edge_faces[2 * e + (forward ? 0 : 1)] = f;
-    }
   return r;
 }
 

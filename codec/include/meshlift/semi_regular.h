@@ -48,9 +48,10 @@ class SemiRegularHierarchy {
 
   /// Coefficient tree (PGC): parent of an odd vertex of level >= 2 is the odd vertex on the
   /// coarser edge its edge came from (a half of it, or an inner edge parallel to it);
-  /// kNone for base vertices and level-1 odd vertices (the tree roots).
-  std::uint32_t parent(std::uint32_t vertex) const { return parent_[vertex]; }
-  /// Children of a vertex in the coefficient tree (4 for an interior edge's odd vertex, 3 on a boundary).
+  /// kNone for base vertices and level-1 odd vertices (the tree roots). Computed, not stored.
+  std::uint32_t parent(std::uint32_t vertex) const;
+  /// Children of a vertex in the coefficient tree, in ascending order (4 for an interior edge's
+  /// odd vertex, 3 on a boundary; none for base vertices and the finest level).
   std::span<const std::uint32_t> children(std::uint32_t vertex) const;
 
   /// Bytes held by this hierarchy (topologies and tree).
@@ -60,8 +61,8 @@ class SemiRegularHierarchy {
   std::vector<std::uint32_t> vertex_counts_;
   std::vector<TriangleTopology> topologies_;  ///< levels 0 .. levels() - 1
   std::vector<std::uint32_t> finest_triangles_;
-  std::vector<std::uint32_t> parent_;
-  std::vector<std::uint32_t> child_offsets_;
+  /// 4 slots per vertex of levels 1 .. levels() - 1 (from vertex_count(0) on): its children, the
+  /// 4th kNone for a boundary edge's vertex. Fixed slots need no offsets array.
   std::vector<std::uint32_t> children_;
 };
 
