@@ -168,6 +168,22 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
     message = "header holds a non-finite or non-positive quantization parameter";
     return Status::corrupt;
   }
+  // Each reconstructed coefficient is at most 2^(top_plane + 1) steps_c / w_j, and synthesis sums
+  // bounded combinations of them (stencil weights of absolute sum below 2, at most 12 levels):
+  // parameters that could take a decode near the double range (hostile or damaged headers) are
+  // refused here, so no decode can produce an infinite coordinate.
+  constexpr double kMaxMagnitude = 1e250;
+  bool bounded = true;
+  for (double c : center) bounded = bounded && std::abs(c) <= kMaxMagnitude;
+  for (const Channel& channel : channels)
+    for (double c : channel.center) bounded = bounded && std::abs(c) <= kMaxMagnitude;
+  for (int j = 0; j <= levels && bounded; ++j)
+    for (int c = 0; c < components(); ++c)
+      bounded = bounded && std::ldexp(component_step(c, j), top_plane + 1) / level_weights[static_cast<std::size_t>(j)] <= kMaxMagnitude;
+  if (!bounded) {
+    message = "header quantization parameters exceed the range a decode can represent";
+    return Status::corrupt;
+  }
   if (r.remaining() != 0) {
     message = "header chunk has " + std::to_string(r.remaining()) + " unexpected trailing bytes";
     return Status::corrupt;

@@ -286,6 +286,38 @@ TEST_CASE("a small file whose header refines a real base past the vertex limit i
   CHECK(decode(valid, strict).status == Status::limit_exceeded);
 }
 
+TEST_CASE("header parameters that would overflow a decode are refused", "[codec][robust]") {
+  // A valid stream's BASE and COEF behind a hand-written HEAD whose step is huge and weights tiny:
+  // every decoded coefficient would be infinite. Also bad frame and channel fields.
+  const auto valid = encode(bumpy(test::icosahedron(), 1), {});
+  ContainerReader reader;
+  REQUIRE(reader.parse(valid) == Status::ok);
+  auto with_head = [&](std::uint8_t flags, double step, double weight, const std::vector<std::uint8_t>& tail) {
+    ByteWriter head;
+    for (std::uint8_t b : {std::uint8_t{1}, flags, std::uint8_t{1}, std::uint8_t{20}}) head.u8(b);
+    head.varint(12);
+    head.varint(20);
+    head.u64(std::bit_cast<std::uint64_t>(step));
+    for (int i = 0; i < 3; ++i) head.u64(std::bit_cast<std::uint64_t>(0.0));
+    for (int i = 0; i < 2; ++i) head.u64(std::bit_cast<std::uint64_t>(weight));
+    for (std::uint8_t b : tail) head.u8(b);
+    ContainerWriter writer;
+    writer.add_chunk(kTagHeader, head.data());
+    writer.add_chunk(kTagBaseMesh, reader.chunks()[1].payload);
+    writer.add_chunk(kTagCoefficients, reader.chunks()[2].payload);
+    return decode(writer.finish());
+  };
+  CHECK(with_head(0, 1e-3, 1.0, {}).status == Status::ok);  // the same bytes with sane parameters decode
+  const DecodeResult overflow = with_head(0, 1e300, 1e-300, {});
+  CHECK(overflow.status == Status::corrupt);
+  CHECK_THAT(overflow.message, Catch::Contains("range"));
+  CHECK(with_head(2, 1e-3, 1.0, {17}).status == Status::corrupt);  // tangent shift above 16
+  CHECK(with_head(2, 1e-3, 1.0, {}).status == Status::corrupt);    // frame flag without its byte
+  CHECK(with_head(4, 1e-3, 1.0, {5}).status == Status::corrupt);   // 5 channels
+  CHECK(with_head(4, 1e-3, 1.0, {1, 5}).status == Status::corrupt);  // a 5-component channel
+  CHECK(with_head(8, 1e-3, 1.0, {}).status == Status::reserved_bits_set);
+}
+
 TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field, Loop, 12 bits.
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);

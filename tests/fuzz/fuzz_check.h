@@ -37,11 +37,17 @@ inline void check_result(const DecodeResult& r) {
     for (std::uint32_t i : m.triangles)
       if (i >= m.vertex_count()) violated("index out of range");
     if (r.level < 0 || r.level > r.levels) violated("level out of range");
+    for (const VertexChannel& c : r.channels) {
+      if (c.components < 1 || c.values.size() != m.vertex_count() * static_cast<std::size_t>(c.components))
+        violated("channel size");
+      for (double x : c.values)
+        if (!std::isfinite(x)) violated("non-finite channel value");
+    }
   } else {
     const int code = static_cast<int>(r.status);
     if (code < 1 || code > 8) violated("unnumbered status");
     if (r.message.empty()) violated("error without a message");
-    if (!r.mesh.positions.empty() || !r.mesh.triangles.empty()) violated("error with a mesh");
+    if (!r.mesh.positions.empty() || !r.mesh.triangles.empty() || !r.channels.empty()) violated("error with a mesh");
   }
 }
 
