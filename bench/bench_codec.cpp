@@ -134,6 +134,15 @@ int main(int argc, char** argv) {
     h.reset();
     h.emplace(mesh.hierarchy.topology(0), levels);
   });
+  const Timing lean_hierarchy_time = best_of(runs, [&] {
+    h.reset();
+    h.emplace(mesh.hierarchy.topology(0), levels, false);
+  });
+  std::vector<std::uint32_t> triangles;
+  const Timing triangles_time = best_of(runs, [&] { triangles = h->copy_triangles(levels); });
+  triangles = {};
+  h.reset();
+  h.emplace(mesh.hierarchy.topology(0), levels);
   std::optional<WaveletTransform> transform;
   const Timing tables_time = best_of(runs, [&] {
     transform.reset();
@@ -149,6 +158,8 @@ int main(int argc, char** argv) {
     transform->analyze(values);
   });
   print_timing("hierarchy", hierarchy_time, V);
+  print_timing("  without finest faces", lean_hierarchy_time, V, "(SemiRegularHierarchy(base, L, false): what a decoder");
+  print_timing("  + copy_triangles(L)", triangles_time, V, "could build, making the output's faces at its end)");
   print_timing("stencil tables", tables_time, V);
   print_timing("synthesis", synthesis_time, V);
   print_timing("analysis", analysis_time, V);

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include "meshlift/semi_regular.h"
@@ -12,7 +13,8 @@ RefinedSize refined_size(const TriangleTopology& base, int levels) {
   return s;
 }
 
-SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
+SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles)
+    : has_finest_triangles_(finest_triangles || levels == 0) {
   if (levels < 0 || levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " + std::to_string(levels));
   const RefinedSize size = refined_size(base, levels);
@@ -27,10 +29,9 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
     vertex_counts_.push_back(coarse.vertex_count + static_cast<std::uint32_t>(coarse.edge_count()));
     if (j + 1 < levels)
       topologies_.push_back(coarse.refined());
-    else
+    else if (finest_triangles)
       finest_triangles_ = coarse.refined_triangles();
   }
-  if (levels == 0) finest_triangles_ = topologies_.back().triangles;  // the base is also the finest level
 
   // Coefficient tree (CODEC-NOTES §1): the odd vertex on edge p of level j-1 has as children the
   // odd vertices on the halves 2p, 2p+1 of p and on the inner edges 2E_{j-1} + 3f + i parallel to
@@ -50,6 +51,20 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels) {
         slot[slot[2] == kNone ? 2 : 3] = odd_vertex(j, 2 * coarse_edges + 3 * f + i);
       }
   }
+}
+
+const std::vector<std::uint32_t>& SemiRegularHierarchy::triangles(int level) const {
+  // With levels() == 0 the base is the finest level: its topology holds its faces.
+  if (level < static_cast<int>(topologies_.size())) return topologies_.at(static_cast<std::size_t>(level)).triangles;
+  if (level != levels()) throw std::out_of_range("SemiRegularHierarchy::triangles: no level " + std::to_string(level));
+  if (!has_finest_triangles_)
+    throw std::logic_error("SemiRegularHierarchy::triangles: this hierarchy was built without its finest faces");
+  return finest_triangles_;
+}
+
+std::vector<std::uint32_t> SemiRegularHierarchy::copy_triangles(int level) const {
+  if (level == levels() && !has_finest_triangles_) return topologies_.back().refined_triangles();
+  return triangles(level);
 }
 
 int SemiRegularHierarchy::level_of(std::uint32_t vertex) const {

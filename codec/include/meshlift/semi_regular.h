@@ -27,7 +27,10 @@ class SemiRegularHierarchy {
  public:
   /// \pre base is a manifold triangle topology; 0 <= levels <= kMaxLevels.
   /// \throw MeshError if levels is out of range or the refined mesh would exceed 2^32 - 1 vertices.
-  SemiRegularHierarchy(TriangleTopology base, int levels);
+  /// `finest_triangles` false leaves out the finest level's faces, the largest array (24 bytes per
+  /// finest vertex): for a caller that needs them only once, at the end, from copy_triangles()
+  /// (a decoder's output); triangles(levels()) then throws std::logic_error.
+  SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles = true);
 
   int levels() const { return static_cast<int>(vertex_counts_.size()) - 1; }
   /// Number of vertices of the mesh at `level` (levels 0..levels()).
@@ -37,9 +40,9 @@ class SemiRegularHierarchy {
   /// be the largest arrays and nothing reads them): use triangles() for it.
   const TriangleTopology& topology(int level) const { return topologies_.at(static_cast<std::size_t>(level)); }
   /// Faces of the mesh at `level` (0..levels()), 3 indices each.
-  const std::vector<std::uint32_t>& triangles(int level) const {
-    return level == levels() ? finest_triangles_ : topologies_.at(static_cast<std::size_t>(level)).triangles;
-  }
+  const std::vector<std::uint32_t>& triangles(int level) const;
+  /// The same as a new array, made from the level below if this hierarchy does not keep them.
+  std::vector<std::uint32_t> copy_triangles(int level) const;
   /// The level a vertex first appears on.
   int level_of(std::uint32_t vertex) const;
 
@@ -60,7 +63,8 @@ class SemiRegularHierarchy {
  private:
   std::vector<std::uint32_t> vertex_counts_;
   std::vector<TriangleTopology> topologies_;  ///< levels 0 .. levels() - 1
-  std::vector<std::uint32_t> finest_triangles_;
+  std::vector<std::uint32_t> finest_triangles_;  ///< faces of level levels() >= 1 (if kept)
+  bool has_finest_triangles_ = true;
   /// 4 slots per vertex of levels 1 .. levels() - 1 (from vertex_count(0) on): its children, the
   /// 4th kNone for a boundary edge's vertex. Fixed slots need no offsets array.
   std::vector<std::uint32_t> children_;
