@@ -2,6 +2,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "large_array.h"
 #include "meshlift/semi_regular.h"
 
 namespace meshlift {
@@ -36,7 +37,7 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bo
   // Coefficient tree (CODEC-NOTES §1): the odd vertex on edge p of level j-1 has as children the
   // odd vertices on the halves 2p, 2p+1 of p and on the inner edges 2E_{j-1} + 3f + i parallel to
   // p (face edge i of f) in the faces f of p, in that (ascending) order.
-  if (levels >= 2) children_.assign(4 * std::size_t{vertex_count(levels - 1) - vertex_count(0)}, kNone);
+  if (levels >= 2) assign_large(children_, 4 * std::size_t{vertex_count(levels - 1) - vertex_count(0)}, kNone);
   for (int j = 1; j < levels; ++j) {
     const TriangleTopology& coarse = topologies_[j - 1];
     const auto coarse_edges = static_cast<std::uint32_t>(coarse.edge_count());

@@ -1,5 +1,7 @@
 #include "stencils.h"
 
+#include "large_array.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -43,7 +45,7 @@ class StepWriter {
  public:
   StepWriter(std::uint32_t first_target, std::size_t expected_entries) {
     step_.first_target = first_target;
-    step_.indices.resize(expected_entries + LiftingStep::kPadding);
+    assign_large(step_.indices, expected_entries + LiftingStep::kPadding);
   }
 
   /// The pattern with exactly this scale and these weights (compared as values, as the rows that

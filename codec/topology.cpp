@@ -1,5 +1,7 @@
 #include "meshlift/topology.h"
 
+#include "large_array.h"
+
 #include <algorithm>
 #include <array>
 #include <string>
@@ -112,7 +114,8 @@ TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<c
 
 std::vector<std::uint32_t> TriangleTopology::refined_triangles() const {
   const std::uint32_t V = vertex_count;
-  std::vector<std::uint32_t> out(12 * face_count());
+  std::vector<std::uint32_t> out;
+  assign_large(out, 12 * face_count());
   for (std::size_t f = 0; f < face_count(); ++f) {
     // Corner c_i keeps face (c_i, m_i, m_{i+2}); the centre face is (m_0, m_1, m_2), where m_i is
     // the odd vertex V + e on face edge i (c_i -> c_{i+1}).
@@ -138,9 +141,9 @@ TriangleTopology TriangleTopology::refined() const {
   TriangleTopology r;
   r.vertex_count = V + E;
   r.triangles = refined_triangles();
-  r.edge_vertices.resize(2 * (2 * E + 3 * F));
-  r.edge_faces.resize(2 * (2 * E + 3 * F));
-  r.face_edges.resize(3 * 4 * F);
+  assign_large(r.edge_vertices, 2 * (2 * std::size_t{E} + 3 * F));
+  assign_large(r.edge_faces, 2 * (2 * std::size_t{E} + 3 * F));
+  assign_large(r.face_edges, 3 * 4 * std::size_t{F});
 
   // Halves: edge e = (a, b) with midpoint m becomes 2e = (a, m) and 2e+1 = (m, b), same direction;
   // the halves of a boundary edge are boundary edges (their second face is set below otherwise).

@@ -1,0 +1,44 @@
+// Filling the codec's large arrays (a level's connectivity, the stencil tables, the output faces:
+// tens of MB for a few million vertices) costs more in page faults than in the writes themselves:
+// one fault per 4 KiB page, about 2 us each on a virtual machine. Asking the kernel for
+// transparent huge pages (2 MiB) on such an array before its first write takes 512 times fewer
+// faults (64 MB: 37 ms -> 8 ms of system time measured here). Only a hint: where the kernel does
+// not offer them (transparent_hugepage "never", other systems) nothing changes. Internal to codec/.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace meshlift {
+
+/// Arrays smaller than this keep ordinary pages (a huge page could be mostly unused).
+inline constexpr std::size_t kHugePageArrayBytes = std::size_t{8} << 20;
+
+/// Hints that the whole 2 MiB pages inside [data, data + bytes) be backed by huge pages.
+inline void advise_huge_pages([[maybe_unused]] void* data, [[maybe_unused]] std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+  if (bytes < kHugePageArrayBytes) return;
+  const auto address = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t begin = (address + kHuge - 1) & ~(kHuge - 1), end = (address + bytes) & ~(kHuge - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+}
+
+/// v.assign(n, value), with the storage allocated exactly and advised before it is first written.
+template <class T>
+void assign_large(std::vector<T>& v, std::size_t n, const T& value = T{}) {
+  if (n > v.capacity()) {
+    std::vector<T>().swap(v);
+    v.reserve(n);
+    advise_huge_pages(v.data(), n * sizeof(T));
+  }
+  v.assign(n, value);
+}
+
+}  // namespace meshlift
