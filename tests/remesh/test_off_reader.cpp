@@ -274,7 +274,7 @@ TEST_CASE("OFF reader: errors name the element, the token and the line", "[off]"
   }
 }
 
-TEST_CASE("OFF reader: counts beyond what the file can hold are refused before any allocation", "[off]") {
+TEST_CASE("OFF reader: counts beyond what the file can hold are refused, exactly at the byte budget", "[off]") {
   Scratch scratch("counts");
   REQUIRE(error_for(scratch, "OFF\n4000000000 4000000000 0\n1 2 3\n") ==
           "OFF header claims 4000000000 vertices and 4000000000 faces, more than the remaining 6 bytes of the file hold "
