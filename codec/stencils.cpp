@@ -324,14 +324,17 @@ std::uint32_t opposite(const TriangleTopology& t, std::uint32_t f, std::uint32_t
 
 /// Loop's interior edge row (a, b, c, d) with weights 3/8, 3/8, 1/8, 1/8; c == d (both faces of
 /// the edge share their third vertex, a two-face "pillow") merges into one source of weight 1/4.
-void loop_edge_row(StepWriter& step, std::uint32_t interior, const std::uint32_t (&sources)[4], const double* weights) {
-  if (sources[2] != sources[3]) {
-    step.row(interior, sources);
-    return;
-  }
+[[gnu::noinline]] void merged_row(StepWriter& step, const std::uint32_t (&sources)[4], const double* weights) {
   RowBuilder row;
   for (int k = 0; k < 4; ++k) row.add(sources[k], weights[k]);
   step.row(row);
+}
+inline void loop_edge_row(StepWriter& step, std::uint32_t interior, const std::uint32_t (&sources)[4],
+                          const double* weights) {
+  if (sources[2] != sources[3]) [[likely]]
+    step.row(interior, sources);
+  else
+    merged_row(step, sources, weights);
 }
 
 }  // namespace
