@@ -68,6 +68,29 @@ std::vector<std::uint32_t> SemiRegularHierarchy::copy_triangles(int level) const
   return triangles(level);
 }
 
+std::vector<std::uint32_t> SemiRegularHierarchy::release_finest_triangles() && {
+  std::vector<std::uint32_t> faces;
+  if (levels() == 0) {
+    faces = std::move(topologies_.back().triangles);
+  } else if (has_finest_triangles_) {
+    faces = std::move(finest_triangles_);
+  } else {
+    // refined_triangles() reads only the corners and face edges of level L - 1.
+    TriangleTopology last;
+    last.vertex_count = topologies_.back().vertex_count;
+    last.triangles = std::move(topologies_.back().triangles);
+    last.face_edges = std::move(topologies_.back().face_edges);
+    topologies_.clear();
+    children_ = std::vector<std::uint32_t>();
+    faces = last.refined_triangles();
+  }
+  vertex_counts_.clear();
+  topologies_.clear();
+  finest_triangles_ = std::vector<std::uint32_t>();
+  children_ = std::vector<std::uint32_t>();
+  return faces;
+}
+
 int SemiRegularHierarchy::level_of(std::uint32_t vertex) const {
   for (int j = 0; j <= levels(); ++j)
     if (vertex < vertex_count(j)) return j;

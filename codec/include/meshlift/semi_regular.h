@@ -43,6 +43,11 @@ class SemiRegularHierarchy {
   const std::vector<std::uint32_t>& triangles(int level) const;
   /// The same as a new array, made from the level below if this hierarchy does not keep them.
   std::vector<std::uint32_t> copy_triangles(int level) const;
+  /// The finest level's faces, moved out or made, after releasing everything else this hierarchy
+  /// holds that making them does not need: a decoder's last use of its hierarchy, at the least
+  /// memory (the faces and 12 bytes per finest vertex of level levels() - 1 at the peak, instead
+  /// of the whole hierarchy). The hierarchy is empty afterwards.
+  std::vector<std::uint32_t> release_finest_triangles() &&;
   /// The level a vertex first appears on.
   int level_of(std::uint32_t vertex) const;
 
