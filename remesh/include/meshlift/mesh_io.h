@@ -1,4 +1,5 @@
-// Mesh files in and out (OBJ, OFF, PLY, STL) through OpenMesh's readers and writers.
+// Mesh files in and out (OBJ, OFF, PLY, STL): OFF is read by meshlift's own reader
+// (remesh/off_reader.h), the other formats and every writer go through OpenMesh.
 #pragma once
 
 #include <stdexcept>
@@ -23,18 +24,22 @@ class MeshIOError : public std::runtime_error {
 /// - the STL reader merges bit-identical points into one vertex;
 /// - the OBJ reader removes repeated corners from a face and drops the face if fewer than three
 ///   remain (OFF and PLY keep such faces);
-/// - every reader parses coordinates as 32-bit floats (OpenMesh 9's OBJ/OFF/PLY/STL readers
-///   have no double path), so positions carry float precision whatever the file holds.
+/// - every reader parses coordinates as 32-bit floats (OpenMesh 9's OBJ/PLY/STL readers have no
+///   double path, and the OFF reader rounds the same way), so positions carry float precision
+///   whatever the file holds.
 ///
-/// Before OpenMesh sees the file, it is checked for what makes OpenMesh's readers loop forever,
-/// exhaust memory or hit an assertion (element or list counts larger than the file, malformed
-/// PLY headers, binary OFF, OBJ corners without a vertex index); such files are rejected.
+/// OFF: ascii `[ST][C][N][4][n]OFF` with comments anywhere; binary OFF is refused. Errors name
+/// the element and the line. Before OpenMesh sees an OBJ, PLY or STL file, it is checked for what
+/// makes OpenMesh's readers loop forever, exhaust memory or hit an assertion (element or list
+/// counts larger than the file, malformed PLY headers, OBJ corners without a vertex index); such
+/// files are rejected.
 ///
 /// \throw MeshIOError if the file is missing or unreadable, the extension is unknown, the
 ///        pre-check or the reader rejects the contents, a face has no corners or references a
 ///        vertex that does not exist, the file holds no vertex, or the contents claim more
 ///        elements than the file has bytes.
-/// \note  Not thread-safe: OpenMesh's IOManager and its log streams are process-wide.
+/// \note  Not thread-safe for OBJ, PLY and STL: OpenMesh's IOManager and its log streams are
+///        process-wide.
 PolygonMesh read_mesh(const std::string& path);
 
 /// Writes `mesh` to `path`, the format chosen by the extension (.obj, .off, .ply, .stl);
