@@ -261,19 +261,18 @@ void append_vertex_rows(StepWriter& step, const TriangleTopology& topology, std:
   std::size_t entries = 0;
   for (std::uint32_t v = 0; v < vertices; ++v) entries += arity(v);
   step.reserve(entries);
-  // valence[v] becomes the write position of v's row.
+  std::vector<std::size_t> position(vertices);  // where v's next source goes (2E may pass 2^32)
   for (std::uint32_t v = 0; v < vertices; ++v) {
     const std::uint32_t n = arity(v);
-    const auto at = static_cast<std::uint32_t>(step.entries());
+    position[v] = step.entries();
     step.reserve_row(row_pattern(v, n, boundary_edges[v] > 0), n);
-    valence[v] = at;
   }
   std::uint32_t* indices = step.indices();
   for (std::uint32_t e = 0; e < E; ++e) {
     const bool boundary = topology.is_boundary_edge(e);
     for (std::uint32_t k = 0; k < 2; ++k) {
       const std::uint32_t v = topology.edge_vertices[2 * e + k];
-      if (boundary || !boundary_rows_take_boundary_edges || boundary_edges[v] == 0) indices[valence[v]++] = source(e, k);
+      if (boundary || !boundary_rows_take_boundary_edges || boundary_edges[v] == 0) indices[position[v]++] = source(e, k);
     }
   }
 }
