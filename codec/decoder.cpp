@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <optional>
 
 #include "base_mesh_coder.h"
 #include "local_frames.h"
@@ -123,9 +124,10 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
                                                std::to_string(options.limits.max_memory_bytes));
 
   try {
-    const SemiRegularHierarchy h(std::move(base), header.levels);
+    // Without the finest level's faces until the end (the largest array; nothing reads it before).
+    SemiRegularHierarchy h(std::move(base), header.levels, false);
     RangeDecoder decoder(stream.coefficients);
-    const zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
+    zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
 
     // Dequantize: value = midpoint * step_c / w_j (FORMAT.md §5).
     const int L = header.levels;
@@ -144,16 +146,19 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     DecodeResult result;
     result.levels = L;
     result.level = options.max_level < 0 ? L : std::min(options.max_level, L);
-    const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
+    const bool all_planes = decoded.complete;
+    const int last_plane = decoded.last_plane;
+    decoded = {};  // freed before the stencil tables are built: lower peak memory
+    std::optional<WaveletTransform> transform(std::in_place, h, WaveletOptions{header.scheme, header.mean_preserving_update});
     if (header.local_frames) {
       // Level by level: the details of level j + 1 are in the frames of the level-j mesh just
       // synthesized (encoder.cpp computes them from the same values at full rate).
       for (int j = 0; j < result.level; ++j) {
         frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
-        transform.synthesize(values, K, j + 1, j);
+        transform->synthesize(values, K, j + 1, j);
       }
     } else {
-      transform.synthesize(values, K, result.level);
+      transform->synthesize(values, K, result.level);
     }
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).
@@ -176,10 +181,12 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
       offset += m;
       result.channels.push_back(std::move(channel));
     }
-    result.mesh.triangles = h.triangles(result.level);
-    result.bit_plane = decoded.last_plane;
+    transform.reset();
+    result.mesh.triangles =
+        result.level == L ? std::move(h).release_finest_triangles() : h.copy_triangles(result.level);
+    result.bit_plane = last_plane;
     result.bytes_used = prefix.size();
-    result.complete = decoded.complete && !stream.container.truncated();
+    result.complete = all_planes && !stream.container.truncated();
     return result;
   } catch (const std::bad_alloc&) {
     return failure(Status::limit_exceeded, "not enough memory to decode this stream");
