@@ -109,3 +109,20 @@ TEST_CASE("hierarchy rejects absurd level counts before allocating", "[hierarchy
   TriangleMesh big = test::grid(200);  // 79,202 faces: 12 levels would overflow 32-bit indices
   CHECK_THROWS_WITH(SemiRegularHierarchy(TriangleTopology::build(40000, big.triangles), 12), Catch::Contains("2^32"));
 }
+
+TEST_CASE("hierarchy without the finest faces makes the same faces on demand", "[hierarchy]") {
+  for (const TriangleMesh& base : {test::icosahedron(), test::grid(4), test::torus(), test::disk(5)}) {
+    const TriangleTopology topology = TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles);
+    const SemiRegularHierarchy full(topology, 3);
+    SemiRegularHierarchy lean(topology, 3, false);
+    for (int j = 0; j <= 3; ++j) CHECK(lean.copy_triangles(j) == full.triangles(j));
+    for (std::uint32_t v = 0; v < full.vertex_count(3); ++v) {
+      REQUIRE(lean.parent(v) == full.parent(v));
+      const auto a = lean.children(v), b = full.children(v);
+      REQUIRE(std::vector<std::uint32_t>(a.begin(), a.end()) == std::vector<std::uint32_t>(b.begin(), b.end()));
+    }
+    CHECK(std::move(lean).release_finest_triangles() == full.triangles(3));
+    SemiRegularHierarchy kept(topology, 2);
+    CHECK(std::move(kept).release_finest_triangles() == full.triangles(2));
+  }
+}
