@@ -62,6 +62,13 @@ Image read_netpbm(const std::string& path) {
   image.height = static_cast<int>(height);
   const std::size_t count = static_cast<std::size_t>(width * height * image.channels);
   const int bytes = maxval > 255 ? 2 : 1;
+  // The samples must be in the file before anything is allocated for them.
+  const std::streampos start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff available = in.tellg() - start;
+  in.seekg(start);
+  if (available < static_cast<std::streamoff>(count * bytes))
+    throw std::runtime_error(path + ": the header claims more samples than the file holds");
   std::vector<unsigned char> raw(count * bytes);
   if (!in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size())))
     throw std::runtime_error(path + ": truncated samples");
