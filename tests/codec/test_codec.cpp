@@ -318,6 +318,23 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
   CHECK(with_head(8, 1e-3, 1.0, {}).status == Status::reserved_bits_set);
 }
 
+namespace {
+
+/// The checked-in stream tests/golden/NAME; with MESHLIFT_REGENERATE_GOLDEN set (only with a
+/// deliberate format change), first overwritten by `fresh`.
+std::vector<std::uint8_t> golden_stream(const std::string& name, const std::vector<std::uint8_t>& fresh) {
+  const std::string path = std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/" + name;
+  if (std::getenv("MESHLIFT_REGENERATE_GOLDEN")) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(fresh.data()), static_cast<std::streamsize>(fresh.size()));
+  }
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in.good());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
 TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field, Loop, 12 bits.
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);
@@ -325,14 +342,7 @@ TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
   options.precision_bits = 12;
   options.local_frames = false;  // the stream as first frozen (flags 0)
   const auto file = encode(mesh, options);
-  const std::string path = std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/icosahedron_loop_L2_p12.mlz";
-  if (std::getenv("MESHLIFT_REGENERATE_GOLDEN")) {  // only with a deliberate format change
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
-  }
-  std::ifstream in(path, std::ios::binary);
-  REQUIRE(in.good());  // regenerate deliberately, only with a format version change
-  const std::vector<std::uint8_t> golden((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12.mlz", file);
   CHECK(file == golden);
   const DecodeResult a = decode(golden), b = decode(golden);
   REQUIRE(a.status == Status::ok);
@@ -479,14 +489,7 @@ TEST_CASE("golden stream: local frames and an extra channel", "[codec][golden]")
   options.tangent_shift = 2;
   options.channel_precision_bits = 8;
   const auto file = encode(mesh, options);
-  const std::string path = std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/icosahedron_butterfly_L2_p12_frames_channels.mlz";
-  if (std::getenv("MESHLIFT_REGENERATE_GOLDEN")) {  // only with a deliberate format change
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
-  }
-  std::ifstream in(path, std::ios::binary);
-  REQUIRE(in.good());
-  const std::vector<std::uint8_t> golden((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_butterfly_L2_p12_frames_channels.mlz", file);
   CHECK(file == golden);
   const DecodeResult r = decode(golden);
   REQUIRE(r.status == Status::ok);
