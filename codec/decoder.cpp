@@ -173,7 +173,7 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
         for (int k = 0; k < 3; ++k) result.mesh.positions[3 * std::size_t{v} + k] = values[k_stride * v + k] + header.center[k];
     }
     std::size_t offset = zerotree::kGeometryComponents;
-    for (const StreamHeader::Channel& c : header.channels) {
+    for (const ChannelQuantization& c : header.channels) {
       const std::size_t m = static_cast<std::size_t>(c.components);
       VertexChannel channel{c.components, std::vector<double>(std::size_t{n} * m)};
       for (std::uint32_t v = 0; v < n; ++v)
@@ -216,7 +216,7 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
   info.top_plane = h.top_plane;
   info.local_frames = h.local_frames;
   info.tangent_shift = h.tangent_shift;
-  for (const StreamHeader::Channel& c : h.channels) info.channels.push_back({c.components, c.step});
+  info.channels = h.channels;
   if (r.status == Status::ok) {
     std::vector<std::uint32_t> triangles;
     if (base_mesh::decode_faces(stream.base->payload, h.base_vertices, h.base_faces, triangles)) {

@@ -97,7 +97,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // Each channel: centred on the middle of each component's range, one step for all its
   // components from the widest range.
   for (const VertexChannel& c : mesh.channels) {
-    StreamHeader::Channel hc;
+    ChannelQuantization hc;
     hc.components = c.components;
     double range = 0;
     for (int k = 0; k < c.components; ++k) {

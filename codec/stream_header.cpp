@@ -18,14 +18,14 @@ constexpr int kMaxChannels = 4;
 
 int StreamHeader::components() const {
   int k = zerotree::kGeometryComponents;
-  for (const Channel& c : channels) k += c.components;
+  for (const ChannelQuantization& c : channels) k += c.components;
   return k;
 }
 
 double StreamHeader::component_step(int c, int level) const {
   if (c < zerotree::kGeometryComponents) return c > 0 && level > 0 && local_frames ? std::ldexp(step, tangent_shift) : step;
   c -= zerotree::kGeometryComponents;
-  for (const Channel& channel : channels) {
+  for (const ChannelQuantization& channel : channels) {
     if (c < channel.components) return channel.step;
     c -= channel.components;
   }
@@ -51,7 +51,7 @@ std::vector<std::uint8_t> StreamHeader::write() const {
   if (local_frames) w.u8(static_cast<std::uint8_t>(tangent_shift));
   if (!channels.empty()) {
     w.u8(static_cast<std::uint8_t>(channels.size()));
-    for (const Channel& c : channels) {
+    for (const ChannelQuantization& c : channels) {
       w.u8(static_cast<std::uint8_t>(c.components));
       w.u64(std::bit_cast<std::uint64_t>(c.step));
       for (double x : c.center) w.u64(std::bit_cast<std::uint64_t>(x));
@@ -145,7 +145,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
                   " components (all channels together: 1 to " + std::to_string(zerotree::kMaxChannelComponents) + ")";
         return Status::corrupt;
       }
-      Channel c;
+      ChannelQuantization c;
       c.components = components;
       read_double(c.step);
       c.center.resize(components);
@@ -160,7 +160,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   bool finite = std::isfinite(step) && step > 0;
   for (double c : center) finite = finite && std::isfinite(c);
   for (double weight : level_weights) finite = finite && std::isfinite(weight) && weight > 0;
-  for (const Channel& c : channels) {
+  for (const ChannelQuantization& c : channels) {
     finite = finite && std::isfinite(c.step) && c.step > 0;
     for (double x : c.center) finite = finite && std::isfinite(x);
   }
@@ -175,7 +175,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   constexpr double kMaxMagnitude = 1e250;
   bool bounded = true;
   for (double c : center) bounded = bounded && std::abs(c) <= kMaxMagnitude;
-  for (const Channel& channel : channels)
+  for (const ChannelQuantization& channel : channels)
     for (double c : channel.center) bounded = bounded && std::abs(c) <= kMaxMagnitude;
   for (int j = 0; j <= levels && bounded; ++j)
     for (int c = 0; c < components(); ++c)

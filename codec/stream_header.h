@@ -25,13 +25,8 @@ struct StreamHeader {
   /// step * 2^tangent_shift (flag bit 1).
   bool local_frames = false;
   int tangent_shift = 0;
-  /// Extra per-vertex channels (flag bit 2): components, step, centre per component.
-  struct Channel {
-    int components = 1;
-    double step = 1.0;
-    std::vector<double> center;
-  };
-  std::vector<Channel> channels;
+  /// Extra per-vertex channels (flag bit 2).
+  std::vector<ChannelQuantization> channels;
 
   /// Components coded per vertex: 3 + the channels' components.
   int components() const;

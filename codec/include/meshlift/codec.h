@@ -103,6 +103,13 @@ class Decoder {
   std::vector<std::uint8_t> received_;
 };
 
+/// How an extra channel is quantized (FORMAT.md §3): its step and the centre of each component.
+struct ChannelQuantization {
+  int components = 1;
+  double step = 1.0;
+  std::vector<double> center;
+};
+
 /// Facts from a stream's header, without decoding coefficients.
 struct StreamInfo {
   Status status = Status::ok;
@@ -116,11 +123,7 @@ struct StreamInfo {
   int top_plane = 0;
   bool local_frames = false;
   int tangent_shift = 0;
-  struct Channel {
-    int components = 1;
-    double step = 0;
-  };
-  std::vector<Channel> channels;
+  std::vector<ChannelQuantization> channels;
   struct Chunk {
     std::string tag;
     std::size_t offset = 0, size = 0;
