@@ -10,10 +10,10 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
   const SemiRegularHierarchy& old = mesh.hierarchy;
   const int L = old.levels();
   const std::size_t V = old.vertex_count(L);
-  if (mesh.positions.size() != 3 * V) throw MeshError("canonical_order: positions do not match the hierarchy");
+  if (mesh.positions.size() != 3 * V) throw MeshError("the positions do not match the hierarchy's vertex count");
   for (const VertexChannel& channel : mesh.channels)
     if (channel.components < 1 || channel.values.size() != static_cast<std::size_t>(channel.components) * V)
-      throw MeshError("canonical_order: a channel's values do not match the hierarchy");
+      throw MeshError("a channel's values do not match the hierarchy's vertex count");
   const std::vector<std::uint32_t>& old_base = old.triangles(0);
   base_mesh::CodingOrder order;
   base_mesh::encode_faces(old_base, old.vertex_count(0), &order);

@@ -42,7 +42,6 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
 std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptions& options) {
   const SemiRegularHierarchy& given = input.hierarchy;
   const std::uint32_t V = given.vertex_count(given.levels());
-  if (input.positions.size() != std::size_t{V} * 3) throw MeshError("encode: positions do not match the hierarchy");
   if (V >= (std::uint32_t{1} << 31)) throw MeshError("encode: too many vertices");
   if (options.precision_bits < 1 || options.precision_bits > 40)
     throw MeshError("encode: precision_bits must be between 1 and 40");
@@ -60,8 +59,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       if (c.components < 1 || total > zerotree::kMaxChannelComponents)
         throw MeshError("encode: extra channels may have " + std::to_string(zerotree::kMaxChannelComponents) +
                         " components together, at least 1 each");
-      if (c.values.size() != std::size_t{V} * static_cast<std::size_t>(c.components))
-        throw MeshError("encode: a channel's values do not match the hierarchy");
       for (double x : c.values)
         if (!std::isfinite(x)) throw MeshError("encode: a channel value is NaN or infinite");
     }
@@ -70,7 +67,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   for (std::uint32_t v : given.triangles(0)) used[v] = 1;
   if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
 
-  const SemiRegularMesh mesh = canonical_order(input);
+  const SemiRegularMesh mesh = canonical_order(input);  // also checks the array sizes
   const SemiRegularHierarchy& h = mesh.hierarchy;
   const int L = h.levels();
 
