@@ -163,15 +163,6 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).
     const std::uint32_t n = h.vertex_count(result.level);
-    if (K == zerotree::kGeometryComponents) {  // in place: no second copy at the peak
-      for (std::size_t i = 0; i < std::size_t{n} * 3; ++i) values[i] += header.center[i % 3];
-      values.resize(std::size_t{n} * 3);
-      result.mesh.positions = std::move(values);
-    } else {
-      result.mesh.positions.resize(std::size_t{n} * 3);
-      for (std::uint32_t v = 0; v < n; ++v)
-        for (int k = 0; k < 3; ++k) result.mesh.positions[3 * std::size_t{v} + k] = values[k_stride * v + k] + header.center[k];
-    }
     std::size_t offset = zerotree::kGeometryComponents;
     for (const ChannelQuantization& c : header.channels) {
       const std::size_t m = static_cast<std::size_t>(c.components);
@@ -181,6 +172,13 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
       offset += m;
       result.channels.push_back(std::move(channel));
     }
+    // The positions compacted in place (3v + k <= Kv + k: every read is ahead of the writes), so
+    // no second copy of the values at the peak.
+    for (std::size_t v = 0; v < n; ++v)
+      for (std::size_t k = 0; k < 3; ++k) values[3 * v + k] = values[k_stride * v + k] + header.center[k];
+    values.resize(std::size_t{n} * 3);
+    values.shrink_to_fit();  // a no-op at full level without channels; else the result holds no spare room
+    result.mesh.positions = std::move(values);
     transform.reset();
     result.mesh.triangles =
         result.level == L ? std::move(h).release_finest_triangles() : h.copy_triangles(result.level);

@@ -151,8 +151,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       q.magnitude[i] = static_cast<std::uint32_t>(scaled);
       q.negative[i] = values[i] < 0 && q.magnitude[i] > 0;
       if (reconstruction != nullptr) {
-        const double mid = q.magnitude[i] == 0 ? 0.0 : static_cast<double>(q.magnitude[i]) + 0.5;  // Decoded::value
-        reconstruction[i] = zerotree::dequantize(q.negative[i] ? -mid : mid, step, header.level_weights[j]);
+        reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(q.magnitude[i], 0, q.negative[i]), step,
+                                                 header.level_weights[j]);
       }
     }
   };

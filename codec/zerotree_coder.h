@@ -58,10 +58,15 @@ struct Decoded {
   bool complete = false;
 
   /// Reconstruction in steps: the midpoint of the interval, signed; 0 if insignificant.
-  double value(std::size_t i) const {
-    if (known[i] == 0) return 0.0;
-    const double mid = known[i] + 0.5 * static_cast<double>(std::uint64_t{1} << low_plane[i]);
-    return negative[i] ? -mid : mid;
+  double value(std::size_t i) const { return midpoint(known[i], low_plane[i], negative[i]); }
+
+  /// A magnitude known to lie in [known, known + 2^low_plane) steps, reconstructed at the middle
+  /// of that interval, signed (FORMAT.md §5); 0 if insignificant. The encoder's closed loop uses
+  /// it with low_plane = 0 for what the decoder reconstructs at full rate.
+  static double midpoint(std::uint32_t known, int low_plane, bool negative) {
+    if (known == 0) return 0.0;
+    const double mid = known + 0.5 * static_cast<double>(std::uint64_t{1} << low_plane);
+    return negative ? -mid : mid;
   }
 };
 
