@@ -1,29 +1,41 @@
 #include "zerotree_coder.h"
 
 #include <algorithm>
+#include <bit>
+#include <memory>
 #include <stdexcept>
 
 namespace meshlift::zerotree {
 
 Forest::Forest(const SemiRegularHierarchy& h) {
-  const std::uint32_t V = h.vertex_count(h.levels());
+  vertices = h.vertex_count(h.levels());
   roots = h.vertex_count(0);
-  level.resize(V);
-  for (int j = 0; j <= h.levels(); ++j)
-    std::fill(level.begin() + (j == 0 ? 0 : h.vertex_count(j - 1)), level.begin() + h.vertex_count(j),
-              static_cast<std::uint8_t>(j));
-  child_offsets.assign(V + 1, 0);
+  levels = h.levels();
+  level_starts.push_back(0);
+  for (int j = 0; j <= levels; ++j) level_starts.push_back(h.vertex_count(j));
+  root_child_offsets.assign(std::size_t{roots} + 1, 0);
   const TriangleTopology& base = h.topology(0);
-  if (h.levels() > 0)
-    for (std::uint32_t e = 0; e < base.edge_count(); ++e) ++child_offsets[base.edge_vertices[2 * e] + 1];
-  for (std::uint32_t v = roots; v < V; ++v) child_offsets[v + 1] = static_cast<std::uint32_t>(h.children(v).size());
-  for (std::uint32_t v = 0; v < V; ++v) child_offsets[v + 1] += child_offsets[v];
-  children.resize(child_offsets[V]);
-  std::vector<std::uint32_t> fill(child_offsets.begin(), child_offsets.end() - 1);
-  if (h.levels() > 0)
-    for (std::uint32_t e = 0; e < base.edge_count(); ++e) children[fill[base.edge_vertices[2 * e]]++] = h.odd_vertex(0, e);
-  for (std::uint32_t v = roots; v < V; ++v)
-    for (std::uint32_t c : h.children(v)) children[fill[v]++] = c;
+  if (levels > 0) {
+    for (std::uint32_t e = 0; e < base.edge_count(); ++e) ++root_child_offsets[base.edge_vertices[2 * e] + 1];
+    for (std::uint32_t v = 0; v < roots; ++v) root_child_offsets[v + 1] += root_child_offsets[v];
+    root_children.resize(root_child_offsets[roots]);
+    std::vector<std::uint32_t> fill(root_child_offsets.begin(), root_child_offsets.end() - 1);
+    for (std::uint32_t e = 0; e < base.edge_count(); ++e) root_children[fill[base.edge_vertices[2 * e]]++] = h.odd_vertex(0, e);
+  }
+  // Odd vertices of levels 1 .. levels - 1: 3 or 4 children each, all of the next level.
+  const std::uint32_t parents_end = levels >= 2 ? h.vertex_count(levels - 1) : roots;
+  odd_children.resize(4 * std::size_t{parents_end - roots});
+  for (int j = 1; j < levels; ++j)
+    for (std::uint32_t v = h.vertex_count(j - 1); v < h.vertex_count(j); ++v) {
+      const std::span<const std::uint32_t> c = h.children(v);
+      std::uint32_t* slots = odd_children.data() + 4 * std::size_t{v - roots};
+      if (c.size() < 3 || c.size() > 4) throw std::logic_error("zerotree::Forest: an odd vertex without 3 or 4 children");
+      for (std::size_t k = 0; k < 4; ++k) {
+        slots[k] = k < c.size() ? c[k] : kNoChild;
+        if (k < c.size() && (c[k] < h.vertex_count(j) || c[k] >= h.vertex_count(j + 1)))
+          throw std::logic_error("zerotree::Forest: a child not on the next level");
+      }
+    }
 }
 
 int top_plane(const Quantized& q) {
@@ -37,7 +49,6 @@ int top_plane(const Quantized& q) {
 namespace {
 
 constexpr int kLevelContexts = kMaxLevels + 1;
-constexpr std::uint32_t kRemoved = 0xffffffffu;
 
 struct Models {
   BitModel lip[kLevelContexts][kMaxComponents];
@@ -47,119 +58,255 @@ struct Models {
   BitModel refine[kLevelContexts][kMaxComponents];
 };
 
-struct Lists {
-  std::vector<std::uint32_t> insignificant_pixels;  // SPIHT's LIP: coefficients tested one by one
-  std::vector<std::uint32_t> insignificant_sets;    // LIS: vertex << 1 | (1 for type B: grandchildren)
-  std::vector<std::uint32_t> significant;           // LSP
+/// An array of fixed capacity, left uninitialized: its pages become resident only as entries are
+/// written, so a capacity at the worst-case bound costs only the address space.
+template <class T>
+std::unique_ptr<T[]> reserve(std::size_t capacity) {
+  return std::make_unique_for_overwrite<T[]>(capacity);
+}
+
+// SPIHT's three lists for one component, as parallel arrays. Every entry carries its vertex's
+// level (the context), and the encoder's entries also the value their next decision tests, so
+// that the passes, which run once per plane, only walk their lists in order; the per-vertex
+// arrays are read once per entry, when it is made.
+struct ComponentLists {
+  // LIP, coefficients tested one by one. A coefficient enters it at most once: capacity V.
+  std::unique_ptr<std::uint32_t[]> lip_vertex;
+  std::unique_ptr<std::uint8_t[]> lip_level;
+  std::unique_ptr<std::uint32_t[]> lip_magnitude;  // encoder only
+  std::size_t lip_size = 0;
+  // LIS: vertex, level << 1 | (1 for type B: grandchildren). Only a vertex with children has an
+  // entry, first of type A, then perhaps one of type B, one at a time; within a pass the removed
+  // entries are compacted away behind the reading position, so the array never holds more than
+  // the live entries plus those appended in the pass: capacity 2 * (vertices with children).
+  std::unique_ptr<std::uint32_t[]> lis_vertex;
+  std::unique_ptr<std::uint8_t[]> lis_tag;
+  std::unique_ptr<std::uint8_t[]> lis_width;  // encoder only: bit width of the largest magnitude in the set
+  std::size_t lis_size = 0;
+  // LSP: vertex, level | negative << 7, and the magnitude (decoder: the bits known so far; the
+  // encoder: the whole magnitude). Capacity V.
+  std::unique_ptr<std::uint32_t[]> lsp_vertex;
+  std::unique_ptr<std::uint8_t[]> lsp_tag;
+  std::unique_ptr<std::uint32_t[]> lsp_magnitude;
+  std::size_t lsp_size = 0;
+  // Of the current plane: LSP entries [0, refine_count) were significant before it, and
+  // [0, refined) of them have had its refinement bit.
+  std::size_t refine_count = 0, refined = 0;
+
+  ComponentLists(const Forest& f, bool encoder) {
+    const std::uint32_t V = f.vertex_count();
+    std::size_t parents = f.odd_children.size() / 4;
+    for (std::uint32_t v = 0; v < f.roots; ++v) parents += !f.children(v).empty();
+    lip_vertex = reserve<std::uint32_t>(V);
+    lip_level = reserve<std::uint8_t>(V);
+    lis_vertex = reserve<std::uint32_t>(2 * parents);
+    lis_tag = reserve<std::uint8_t>(2 * parents);
+    lsp_vertex = reserve<std::uint32_t>(V);
+    lsp_tag = reserve<std::uint8_t>(V);
+    lsp_magnitude = reserve<std::uint32_t>(V);
+    if (encoder) {
+      lip_magnitude = reserve<std::uint32_t>(V);
+      lis_width = reserve<std::uint8_t>(2 * parents);
+    }
+  }
 };
+
+constexpr std::uint8_t kNegativeTag = 0x80;
+constexpr std::uint8_t kLevelMask = 0x7f;
 
 // One SPIHT run, shared by encoder and decoder. Io supplies the decisions: the encoder computes
 // and codes them, the decoder decodes them and returns -1 once the stream is exhausted, where
-// the run stops (all decisions before were exactly the encoder's).
+// the run stops (all decisions before were exactly the encoder's). Only the encoder evaluates
+// the values handed to io.bit and io.sign (`Io::kEncoder && ...`).
 //   Sorting pass at plane n: each LIP coefficient: significant? (then sign, move to LSP).
 //   Each LIS entry of type A: any descendant significant? If so, each child: significant?
 //   (sign, LSP) or to the LIP; the entry becomes type B if grandchildren exist. Type B: any
 //   grandchild significant? If so, every child with children joins the LIS as type A.
 //   Refinement pass: bit n of every coefficient that was significant before this plane.
+// Returns false where the decoder's input ran out; `lists` then hold what was decoded.
 template <class Io>
-bool run(const Forest& f, int components, int top, Io& io) {
+bool run(const Forest& f, int components, int top, Io& io, std::vector<ComponentLists>& lists) {
+  constexpr bool kEncoder = Io::kEncoder;
   Models models;
-  std::vector<Lists> lists(static_cast<std::size_t>(components));
-  for (auto& l : lists) {
-    l.insignificant_pixels.resize(f.roots);
+  // Only vertices with children have LIS entries: the children of v of level `level`.
+  const std::uint32_t roots = f.roots;
+  const std::uint32_t* const root_child_offsets = f.root_child_offsets.data();
+  const std::uint32_t* const root_children = f.root_children.data();
+  const std::uint32_t* const odd_children = f.odd_children.data();
+  auto children = [&](std::uint32_t v, const std::uint32_t*& first) -> std::uint32_t {
+    if (v < roots) {
+      first = root_children + root_child_offsets[v];
+      return root_child_offsets[v + 1] - root_child_offsets[v];
+    }
+    first = odd_children + 4 * std::size_t{v - roots};
+    return first[3] == Forest::kNoChild ? 3 : 4;
+  };
+  // Every child of a vertex of level j is of level j + 1 and has children unless that is the
+  // finest level (Forest): no need to look at the children themselves.
+  const int finest = f.levels;
+  for (int c = 0; c < components; ++c) {
+    ComponentLists& l = lists[static_cast<std::size_t>(c)];
     for (std::uint32_t v = 0; v < f.roots; ++v) {
-      l.insignificant_pixels[v] = v;
-      if (f.child_offsets[v + 1] > f.child_offsets[v]) l.insignificant_sets.push_back(v << 1);
+      l.lip_vertex[l.lip_size] = v;
+      l.lip_level[l.lip_size] = 0;
+      if constexpr (kEncoder) l.lip_magnitude[l.lip_size] = io.magnitude(v, c);
+      ++l.lip_size;
+      if (!f.children(v).empty()) {
+        l.lis_vertex[l.lis_size] = v;
+        l.lis_tag[l.lis_size] = 0;
+        if constexpr (kEncoder) l.lis_width[l.lis_size] = io.descendants_width(v, c);
+        ++l.lis_size;
+      }
     }
   }
-  auto has_children = [&](std::uint32_t v) { return f.child_offsets[v + 1] > f.child_offsets[v]; };
-  // Every child of a vertex of level j is of level j + 1 and has children unless that is the
-  // finest level: no need to look at the children themselves.
-  const int finest = f.level.empty() ? 0 : f.level.back();
-  auto has_grandchildren = [&](std::uint32_t v) { return has_children(v) && f.level[v] + 2 <= finest; };
   for (int n = top; n >= 0; --n) {
     io.begin_plane(n);
+    for (ComponentLists& l : lists) {
+      l.refine_count = l.lsp_size;
+      l.refined = 0;
+    }
     for (int c = 0; c < components; ++c) {
-      Lists& l = lists[static_cast<std::size_t>(c)];
-      const std::size_t refine_count = l.significant.size();
-      auto newly_significant = [&](std::uint32_t v) {
-        if (io.sign(v, c) < 0) return false;
-        io.significant(v, c, n);
-        l.significant.push_back(v);
+      ComponentLists& l = lists[static_cast<std::size_t>(c)];
+      // The lists in locals for the passes (stores of bytes may alias anything in memory).
+      std::uint32_t* const lip_vertex = l.lip_vertex.get();
+      std::uint8_t* const lip_level = l.lip_level.get();
+      std::uint32_t* const lip_magnitude = l.lip_magnitude.get();
+      std::uint32_t* const lis_vertex = l.lis_vertex.get();
+      std::uint8_t* const lis_tag = l.lis_tag.get();
+      std::uint8_t* const lis_width = l.lis_width.get();
+      std::uint32_t* const lsp_vertex = l.lsp_vertex.get();
+      std::uint8_t* const lsp_tag = l.lsp_tag.get();
+      std::uint32_t* const lsp_magnitude = l.lsp_magnitude.get();
+      std::size_t lip_size = l.lip_size, lis_size = l.lis_size, lsp_size = l.lsp_size;
+      const std::uint32_t bit_n = std::uint32_t{1} << n;
+      auto stop = [&] {
+        l.lsp_size = lsp_size;
+        return false;
+      };
+      // A coefficient found significant: its sign, then it joins the LSP.
+      auto newly_significant = [&](std::uint32_t v, int level, std::uint32_t magnitude) {
+        const int negative = io.sign(kEncoder && io.negative(v, c));
+        if (negative < 0) return false;
+        lsp_vertex[lsp_size] = v;
+        lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
+        lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
+        ++lsp_size;
         return true;
       };
-      // Sorting pass, LIP.
+
+      // Sorting pass, LIP (compacted in place).
       std::size_t keep = 0;
-      for (std::size_t i = 0; i < l.insignificant_pixels.size(); ++i) {
-        const std::uint32_t v = l.insignificant_pixels[i];
-        const int s = io.bit(models.lip[f.level[v]][c], io.is_significant(v, c, n));
-        if (s < 0) return false;
+      for (std::size_t i = 0; i < lip_size; ++i) {
+        const std::uint32_t v = lip_vertex[i];
+        const int level = lip_level[i];
+        const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
+        const int s = io.bit(models.lip[level][c], kEncoder && (magnitude >> n) != 0);
+        if (s < 0) return stop();
         if (s) {
-          if (!newly_significant(v)) return false;
+          if (!newly_significant(v, level, magnitude)) return stop();
         } else {
-          l.insignificant_pixels[keep++] = v;
+          lip_vertex[keep] = v;
+          lip_level[keep] = static_cast<std::uint8_t>(level);
+          if constexpr (kEncoder) lip_magnitude[keep] = magnitude;
+          ++keep;
         }
       }
-      l.insignificant_pixels.resize(keep);
-      // Sorting pass, LIS (grows while it is walked).
-      for (std::size_t i = 0; i < l.insignificant_sets.size(); ++i) {
-        const std::uint32_t entry = l.insignificant_sets[i];
-        const std::uint32_t v = entry >> 1;
-        if ((entry & 1) == 0) {
-          const int s = io.bit(models.set_descendants[f.level[v]][c], io.descendant_significant(v, c, n));
-          if (s < 0) return false;
-          if (!s) continue;
+      lip_size = keep;
+
+      // Sorting pass, LIS: grows while it is walked, compacted in place behind the walk.
+      keep = 0;
+      for (std::size_t i = 0; i < lis_size; ++i) {
+        const std::uint32_t v = lis_vertex[i];
+        const std::uint8_t tag = lis_tag[i];
+        const int level = tag >> 1;
+        const bool type_b = tag & 1;
+        const int s = io.bit(type_b ? models.set_grandchildren[level][c] : models.set_descendants[level][c],
+                             kEncoder && lis_width[i] > n);
+        if (s < 0) return stop();
+        if (!s) {
+          lis_vertex[keep] = v;
+          lis_tag[keep] = tag;
+          if constexpr (kEncoder) lis_width[keep] = lis_width[i];
+          ++keep;
+          continue;
+        }
+        const std::uint32_t* first = nullptr;
+        const std::uint32_t count = children(v, first);
+        if (!type_b) {
           int found = 0;
-          for (std::uint32_t k = f.child_offsets[v]; k < f.child_offsets[v + 1]; ++k) {
-            const std::uint32_t child = f.children[k];
-            const int cs = io.bit(models.child[f.level[child]][c][std::min(found, 3)], io.is_significant(child, c, n));
-            if (cs < 0) return false;
+          for (std::uint32_t k = 0; k < count; ++k) {
+            const std::uint32_t child = first[k];
+            const std::uint32_t magnitude = kEncoder ? io.magnitude(child, c) : 0;
+            const int cs = io.bit(models.child[level + 1][c][std::min(found, 3)], kEncoder && (magnitude >> n) != 0);
+            if (cs < 0) return stop();
             if (cs) {
-              if (!newly_significant(child)) return false;
+              if (!newly_significant(child, level + 1, magnitude)) return stop();
               ++found;
             } else {
-              l.insignificant_pixels.push_back(child);
+              lip_vertex[lip_size] = child;
+              lip_level[lip_size] = static_cast<std::uint8_t>(level + 1);
+              if constexpr (kEncoder) lip_magnitude[lip_size] = magnitude;
+              ++lip_size;
             }
           }
-          l.insignificant_sets[i] = kRemoved;
-          if (has_grandchildren(v)) l.insignificant_sets.push_back(v << 1 | 1);
+          if (level + 2 <= finest) {  // L(v) is not empty
+            lis_vertex[lis_size] = v;
+            lis_tag[lis_size] = static_cast<std::uint8_t>(tag | 1);
+            if constexpr (kEncoder) lis_width[lis_size] = io.grandchildren_width(v, c);
+            ++lis_size;
+          }
         } else {
-          const int s = io.bit(models.set_grandchildren[f.level[v]][c], io.grandchild_significant(v, c, n));
-          if (s < 0) return false;
-          if (!s) continue;
-          l.insignificant_sets[i] = kRemoved;
-          for (std::uint32_t k = f.child_offsets[v]; k < f.child_offsets[v + 1]; ++k)
-            if (has_children(f.children[k])) l.insignificant_sets.push_back(f.children[k] << 1);
+          // v has grandchildren, so its children (odd, below the finest level) have children.
+          for (std::uint32_t k = 0; k < count; ++k) {
+            const std::uint32_t child = first[k];
+            lis_vertex[lis_size] = child;
+            lis_tag[lis_size] = static_cast<std::uint8_t>((level + 1) << 1);
+            if constexpr (kEncoder) lis_width[lis_size] = io.descendants_width(child, c);
+            ++lis_size;
+          }
         }
       }
-      l.insignificant_sets.erase(std::remove(l.insignificant_sets.begin(), l.insignificant_sets.end(), kRemoved),
-                                 l.insignificant_sets.end());
-      // Refinement pass.
-      for (std::size_t i = 0; i < refine_count; ++i) {
-        const std::uint32_t v = l.significant[i];
-        const int b = io.bit(models.refine[f.level[v]][c], io.magnitude_bit(v, c, n));
-        if (b < 0) return false;
-        io.refined(v, c, n, b);
+      lis_size = keep;
+      l.lip_size = lip_size;
+      l.lis_size = lis_size;
+
+      // Refinement pass: bit n of each magnitude (the decoder ORs it in; for the encoder, whose
+      // magnitude already has it, that changes nothing).
+      for (std::size_t i = 0; i < l.refine_count; ++i) {
+        const std::uint32_t magnitude = lsp_magnitude[i];
+        const int b = io.bit(models.refine[lsp_tag[i] & kLevelMask][c], kEncoder && (magnitude & bit_n) != 0);
+        if (b < 0) {
+          l.refined = i;
+          return stop();
+        }
+        lsp_magnitude[i] = magnitude | (static_cast<std::uint32_t>(b) << n);
       }
+      l.refined = l.refine_count;
+      l.lsp_size = lsp_size;
     }
   }
   return true;
 }
 
+/// Bit width of x (0 for 0): x >> n != 0 exactly when bit_width(x) > n.
+std::uint8_t width(std::uint32_t x) { return static_cast<std::uint8_t>(std::bit_width(x)); }
+
 class EncoderIo {
  public:
+  static constexpr bool kEncoder = true;
+
   EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder) : q_(q), encoder_(encoder), k_(q.components) {
-    // Bottom-up maxima: descendants[v] = max |c| over D(v), grandchildren[v] over L(v) = D(v)
-    // minus the children. Children always have larger indices than their parent.
+    // Bottom-up bit widths of the maxima: descendants[v] of |c| over D(v), grandchildren[v] over
+    // L(v) = D(v) minus the children. Children always have larger indices than their parent.
     const std::size_t n = q.magnitude.size();
     descendants_.assign(n, 0);
     grandchildren_.assign(n, 0);
+    const std::size_t K = static_cast<std::size_t>(k_);
     for (std::uint32_t v = f.vertex_count(); v-- > 0;)
-      for (std::uint32_t k = f.child_offsets[v]; k < f.child_offsets[v + 1]; ++k) {
-        const std::uint32_t child = f.children[k];
-        for (int c = 0; c < k_; ++c) {
-          const std::size_t pv = index(v, c), pc = index(child, c);
-          descendants_[pv] = std::max({descendants_[pv], q.magnitude[pc], descendants_[pc]});
+      for (const std::size_t child : f.children(v)) {
+        for (std::size_t c = 0; c < K; ++c) {
+          const std::size_t pv = std::size_t{v} * K + c, pc = child * K + c;
+          descendants_[pv] = std::max({descendants_[pv], width(q.magnitude[pc]), descendants_[pc]});
           grandchildren_[pv] = std::max(grandchildren_[pv], descendants_[pc]);
         }
       }
@@ -169,77 +316,86 @@ class EncoderIo {
     encoder_.encode(m, value ? 1 : 0);
     return value ? 1 : 0;
   }
-  int sign(std::uint32_t v, int c) {
-    encoder_.encode_direct(q_.negative[index(v, c)], 1);
-    return 0;
+  int sign(bool negative) {
+    encoder_.encode_direct(negative ? 1 : 0, 1);
+    return negative ? 1 : 0;
   }
-  void significant(std::uint32_t, int, int) {}
-  void refined(std::uint32_t, int, int, int) {}
-  bool is_significant(std::uint32_t v, int c, int n) const { return q_.magnitude[index(v, c)] >> n; }
-  bool descendant_significant(std::uint32_t v, int c, int n) const { return descendants_[index(v, c)] >> n; }
-  bool grandchild_significant(std::uint32_t v, int c, int n) const { return grandchildren_[index(v, c)] >> n; }
-  bool magnitude_bit(std::uint32_t v, int c, int n) const { return (q_.magnitude[index(v, c)] >> n) & 1; }
+  std::uint32_t magnitude(std::uint32_t v, int c) const { return q_.magnitude[index(v, c)]; }
+  bool negative(std::uint32_t v, int c) const { return q_.negative[index(v, c)] != 0; }
+  std::uint8_t descendants_width(std::uint32_t v, int c) const { return descendants_[index(v, c)]; }
+  std::uint8_t grandchildren_width(std::uint32_t v, int c) const { return grandchildren_[index(v, c)]; }
 
  private:
   std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * static_cast<std::size_t>(k_) + static_cast<std::size_t>(c); }
   const Quantized& q_;
   RangeEncoder& encoder_;
   int k_;
-  std::vector<std::uint32_t> descendants_, grandchildren_;
+  std::vector<std::uint8_t> descendants_, grandchildren_;
 };
 
 class DecoderIo {
  public:
-  DecoderIo(RangeDecoder& decoder, Decoded& out) : decoder_(decoder), out_(out), k_(out.components) {}
-  void begin_plane(int n) { out_.last_plane = n; }
-  int bit(BitModel& m, bool) {
-    const int b = decoder_.decode(m);
-    return decoder_.exhausted() ? -1 : b;
-  }
-  int sign(std::uint32_t v, int c) {
-    const std::uint32_t negative = decoder_.decode_direct(1);
-    if (decoder_.exhausted()) return -1;
-    out_.negative[index(v, c)] = static_cast<std::uint8_t>(negative);
-    return 0;
-  }
-  void significant(std::uint32_t v, int c, int n) {
-    out_.known[index(v, c)] = std::uint32_t{1} << n;
-    out_.low_plane[index(v, c)] = static_cast<std::int8_t>(n);
-  }
-  void refined(std::uint32_t v, int c, int n, int b) {
-    out_.known[index(v, c)] |= static_cast<std::uint32_t>(b) << n;
-    out_.low_plane[index(v, c)] = static_cast<std::int8_t>(n);
-  }
-  bool is_significant(std::uint32_t, int, int) const { return false; }
-  bool descendant_significant(std::uint32_t, int, int) const { return false; }
-  bool grandchild_significant(std::uint32_t, int, int) const { return false; }
-  bool magnitude_bit(std::uint32_t, int, int) const { return false; }
+  static constexpr bool kEncoder = false;
+
+  /// Decodes from a copy of `decoder` (kept in registers in the passes), written back by finish().
+  explicit DecoderIo(const RangeDecoder& decoder) : decoder_(decoder) {}
+  void begin_plane(int n) { last_plane_ = n; }
+  int bit(BitModel& m, bool) { return decoder_.try_decode(m); }
+  int sign(bool) { return decoder_.try_decode_direct_bit(); }
+  std::uint32_t magnitude(std::uint32_t, int) const { return 0; }
+  bool negative(std::uint32_t, int) const { return false; }
+  std::uint8_t descendants_width(std::uint32_t, int) const { return 0; }
+  std::uint8_t grandchildren_width(std::uint32_t, int) const { return 0; }
+
+  int last_plane() const { return last_plane_; }
+  const RangeDecoder& decoder() const { return decoder_; }
 
  private:
-  std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * static_cast<std::size_t>(k_) + static_cast<std::size_t>(c); }
-  RangeDecoder& decoder_;
-  Decoded& out_;
-  int k_;
+  RangeDecoder decoder_;
+  int last_plane_ = -1;
 };
 
 }  // namespace
 
 void encode(const Forest& forest, const Quantized& q, int top, RangeEncoder& encoder) {
   if (q.components < 1 || q.components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
+  if (top < 0) return;
   EncoderIo io(forest, q, encoder);
-  if (top >= 0) run(forest, q.components, top, io);
+  std::vector<ComponentLists> lists;
+  lists.reserve(static_cast<std::size_t>(q.components));
+  for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true);
+  run(forest, q.components, top, io, lists);
 }
 
 Decoded decode(const Forest& forest, int components, int top, RangeDecoder& decoder) {
   if (components < 1 || components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   Decoded out;
   out.components = components;
-  const std::size_t n = std::size_t{forest.vertex_count()} * static_cast<std::size_t>(components);
-  out.known.assign(n, 0);
-  out.low_plane.assign(n, 0);
-  out.negative.assign(n, 0);
-  DecoderIo io(decoder, out);
-  out.complete = top < 0 || run(forest, components, top, io);
+  const std::size_t K = static_cast<std::size_t>(components);
+  std::vector<ComponentLists> lists;
+  if (top >= 0) {
+    lists.reserve(K);
+    for (std::size_t c = 0; c < K; ++c) lists.emplace_back(forest, false);
+    DecoderIo io(decoder);
+    out.complete = run(forest, components, top, io, lists);
+    decoder = io.decoder();
+    out.last_plane = io.last_plane();
+  } else {
+    out.complete = true;
+  }
+  out.known.assign(std::size_t{forest.vertex_count()} * K, 0);
+  out.flags.assign(out.known.size(), 0);
+  for (std::size_t c = 0; c < lists.size(); ++c) {
+    const ComponentLists& l = lists[c];
+    // Entries [refined, refine_count) were significant before last_plane and did not get its
+    // bit: their lowest known plane is last_plane + 1. All others were refined or found in it.
+    for (std::size_t i = 0; i < l.lsp_size; ++i) {
+      const std::size_t at = std::size_t{l.lsp_vertex[i]} * K + c;
+      out.known[at] = l.lsp_magnitude[i];
+      out.flags[at] = static_cast<std::uint8_t>(((l.lsp_tag[i] & kNegativeTag) ? Decoded::kNegative : 0) |
+                                                (i >= l.refined && i < l.refine_count ? Decoded::kAboveLastPlane : 0));
+    }
+  }
   return out;
 }
 

@@ -23,15 +23,33 @@ inline constexpr int kMaxComponents = kGeometryComponents + kMaxChannelComponent
 
 /// The coding forest over all vertices: roots are the base vertices; a base vertex's children
 /// are the level-1 odd vertices on the base edges it starts (edge_vertices[2e] == v); every other
-/// vertex's children are its coefficient-tree children (CODEC-NOTES §1).
+/// vertex's children are its coefficient-tree children (CODEC-NOTES §1), in increasing order.
+/// Every child of a vertex of level j is of level j + 1, and every odd vertex below the finest
+/// level has children (3 or 4): the coder relies on both, and the constructor checks them.
 struct Forest {
-  std::uint32_t roots = 0;
-  std::vector<std::uint32_t> child_offsets;  ///< vertex_count + 1
-  std::vector<std::uint32_t> children;
-  std::vector<std::uint8_t> level;  ///< level of each vertex (for contexts)
+  static constexpr std::uint32_t kNoChild = 0xffffffffu;
 
+  std::uint32_t roots = 0;
+  std::uint32_t vertices = 0;
+  int levels = 0;
+  std::vector<std::uint32_t> level_starts;  ///< first vertex of each level, and `vertices`
+  std::vector<std::uint32_t> root_child_offsets;  ///< roots + 1
+  std::vector<std::uint32_t> root_children;
+  /// 4 slots per odd vertex of levels 1 .. levels - 1 (vertex v at 4 (v - roots)): its children,
+  /// the last kNoChild for the 3 of a boundary edge's vertex. Fixed slots: one memory access
+  /// finds a vertex's children.
+  std::vector<std::uint32_t> odd_children;
+
+  /// \throw std::logic_error if `hierarchy` breaks the properties above.
   explicit Forest(const SemiRegularHierarchy& hierarchy);
-  std::uint32_t vertex_count() const { return static_cast<std::uint32_t>(level.size()); }
+  std::uint32_t vertex_count() const { return vertices; }
+  /// Children of v, in coding order.
+  std::span<const std::uint32_t> children(std::uint32_t v) const {
+    if (v < roots) return {root_children.data() + root_child_offsets[v], root_children.data() + root_child_offsets[v + 1]};
+    if (v >= level_starts[static_cast<std::size_t>(levels)]) return {};  // the finest level
+    const std::uint32_t* slots = odd_children.data() + 4 * std::size_t{v - roots};
+    return {slots, slots[3] == kNoChild ? 3u : 4u};
+  }
 };
 
 /// Integer magnitudes floor(|c| / step) and signs of the normalized coefficients, `components`
@@ -47,18 +65,24 @@ int top_plane(const Quantized& q);
 
 void encode(const Forest& forest, const Quantized& q, int top_plane, RangeEncoder& encoder);
 
-/// What the decoder knows of each coefficient: magnitude bits known down to `low_plane`
-/// (|c| in [known, known + 2^low_plane) steps), or insignificant (known == 0).
+/// What the decoder knows of each coefficient: insignificant (known == 0), or magnitude bits
+/// known down to low_plane(i), |c| in [known, known + 2^low_plane(i)) steps. Every plane is
+/// decoded whole before the next begins, so a significant coefficient's lowest known plane is
+/// last_plane, or last_plane + 1 if the stream ended before its bit of last_plane: one flag.
 struct Decoded {
+  static constexpr std::uint8_t kNegative = 1;
+  static constexpr std::uint8_t kAboveLastPlane = 2;  ///< low_plane is last_plane + 1
+
   int components = kGeometryComponents;
   std::vector<std::uint32_t> known;
-  std::vector<std::int8_t> low_plane;
-  std::vector<std::uint8_t> negative;
+  std::vector<std::uint8_t> flags;  ///< kNegative | kAboveLastPlane
   int last_plane = -1;  ///< the lowest plane the decoder reached (partly or wholly)
   bool complete = false;
 
+  int low_plane(std::size_t i) const { return last_plane + ((flags[i] & kAboveLastPlane) != 0); }
+  bool negative(std::size_t i) const { return (flags[i] & kNegative) != 0; }
   /// Reconstruction in steps: the midpoint of the interval, signed; 0 if insignificant.
-  double value(std::size_t i) const { return midpoint(known[i], low_plane[i], negative[i]); }
+  double value(std::size_t i) const { return known[i] == 0 ? 0.0 : midpoint(known[i], low_plane(i), negative(i)); }
 
   /// A magnitude known to lie in [known, known + 2^low_plane) steps, reconstructed at the middle
   /// of that interval, signed (FORMAT.md §5); 0 if insignificant. The encoder's closed loop uses

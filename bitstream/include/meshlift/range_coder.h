@@ -54,14 +54,14 @@ struct BitModel {
 
   /// The adaptation rule (FORMAT.md §7.3), shared by encoder and decoder so they cannot drift:
   /// bit 0: p += (kProbMax - p) >> shift;  bit 1: p -= (p - kProbMin) >> shift.
+  /// Without a branch on `bit` (0 or 1): the coefficient coder's refinement bits are close to
+  /// equiprobable, and a mispredicted branch per bit would cost more than the arithmetic.
   void update(int bit) {
     const int shift = range_coder::kShiftForCount[count];
     count = static_cast<std::uint8_t>(count + (count < range_coder::kCountMax));
-    if (bit == 0) {
-      p = static_cast<std::uint16_t>(p + ((range_coder::kProbMax - p) >> shift));
-    } else {
-      p = static_cast<std::uint16_t>(p - ((p - range_coder::kProbMin) >> shift));
-    }
+    const std::uint32_t one = 0u - static_cast<std::uint32_t>(bit);  // all ones if bit == 1
+    const std::uint32_t up = (range_coder::kProbMax - p) >> shift, down = (p - range_coder::kProbMin) >> shift;
+    p = static_cast<std::uint16_t>(p + (up & ~one) - (down & one));
   }
 };
 
@@ -73,14 +73,11 @@ class RangeEncoder {
   void encode(BitModel& model, int bit) {
     normalize();
     const std::uint32_t bound = (range_ >> range_coder::kProbBits) * model.p;
-    if (bit == 0) {
-      range_ = bound;
-      model.update(0);
-    } else {
-      low_ += bound;
-      range_ -= bound;
-      model.update(1);
-    }
+    const int b = bit != 0;
+    const std::uint32_t one = 0u - static_cast<std::uint32_t>(b);  // all ones if b == 1
+    low_ += bound & one;
+    range_ = bound ^ ((bound ^ (range_ - bound)) & one);  // bound if b == 0, else range_ - bound
+    model.update(b);
   }
 
   /// Codes the low `bits` bits of `value`, most significant first, each with probability 1/2.
@@ -139,17 +136,31 @@ class RangeDecoder {
   explicit RangeDecoder(std::span<const std::uint8_t> bytes);
 
   int decode(BitModel& model) {
-    if (range_ < range_coder::kTop && !refill()) return 0;
+    const int bit = try_decode(model);
+    return bit < 0 ? 0 : bit;
+  }
+
+  /// decode() and exhausted() in one: the bit, or -1 if this decision is the one that found the
+  /// input exhausted (or it already was). Branch-free apart from normalization, so that the
+  /// caller's code decides whether a branch on the bit is worth its mispredictions.
+  int try_decode(BitModel& model) {
+    if (range_ < range_coder::kTop && !refill()) return -1;
     const std::uint32_t bound = (range_ >> range_coder::kProbBits) * model.p;
-    if (code_ < bound) {
-      range_ = bound;
-      model.update(0);
-      return 0;
-    }
-    code_ -= bound;
-    range_ -= bound;
-    model.update(1);
-    return 1;
+    const int bit = code_ >= bound;
+    const std::uint32_t one = 0u - static_cast<std::uint32_t>(bit);  // all ones if bit == 1
+    code_ -= bound & one;
+    range_ = bound ^ ((bound ^ (range_ - bound)) & one);  // bound if bit == 0, else range_ - bound
+    model.update(bit);
+    return bit;
+  }
+
+  /// decode_direct(1) and exhausted() in one: the bit, or -1 as for try_decode().
+  int try_decode_direct_bit() {
+    if (range_ < range_coder::kTop && !refill()) return -1;
+    range_ >>= 1;
+    const int bit = code_ >= range_;
+    code_ -= range_ & (0u - static_cast<std::uint32_t>(bit));
+    return bit;
   }
 
   /// Decodes `bits` equiprobable bits, most significant first. \pre 0 <= bits <= 32 (clamped).
