@@ -72,7 +72,7 @@ std::unique_ptr<T[]> reserve(std::size_t capacity) {
 struct ComponentLists {
   // LIP, coefficients tested one by one. A coefficient enters it at most once: capacity V.
   std::unique_ptr<std::uint32_t[]> lip_vertex;
-  std::unique_ptr<std::uint8_t[]> lip_level;
+  std::unique_ptr<std::uint8_t[]> lip_tag;  // level | (encoder only) negative << 7
   std::unique_ptr<std::uint32_t[]> lip_magnitude;  // encoder only
   std::size_t lip_size = 0;
   // LIS: vertex, level << 1 | (1 for type B: grandchildren). Only a vertex with children has an
@@ -98,7 +98,7 @@ struct ComponentLists {
     std::size_t parents = f.odd_children.size() / 4;
     for (std::uint32_t v = 0; v < f.roots; ++v) parents += !f.children(v).empty();
     lip_vertex = reserve<std::uint32_t>(V);
-    lip_level = reserve<std::uint8_t>(V);
+    lip_tag = reserve<std::uint8_t>(V);
     lis_vertex = reserve<std::uint32_t>(2 * parents);
     lis_tag = reserve<std::uint8_t>(2 * parents);
     lsp_vertex = reserve<std::uint32_t>(V);
@@ -112,6 +112,7 @@ struct ComponentLists {
 };
 
 constexpr std::uint8_t kNegativeTag = 0x80;
+constexpr std::size_t kPrefetchDistance = 16;
 constexpr std::uint8_t kLevelMask = 0x7f;
 
 // One SPIHT run, shared by encoder and decoder. Io supplies the decisions: the encoder computes
@@ -148,7 +149,7 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
     ComponentLists& l = lists[static_cast<std::size_t>(c)];
     for (std::uint32_t v = 0; v < f.roots; ++v) {
       l.lip_vertex[l.lip_size] = v;
-      l.lip_level[l.lip_size] = 0;
+      l.lip_tag[l.lip_size] = kEncoder && io.negative(v, c) ? kNegativeTag : 0;
       if constexpr (kEncoder) l.lip_magnitude[l.lip_size] = io.magnitude(v, c);
       ++l.lip_size;
       if (!f.children(v).empty()) {
@@ -169,7 +170,7 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
       ComponentLists& l = lists[static_cast<std::size_t>(c)];
       // The lists in locals for the passes (stores of bytes may alias anything in memory).
       std::uint32_t* const lip_vertex = l.lip_vertex.get();
-      std::uint8_t* const lip_level = l.lip_level.get();
+      std::uint8_t* const lip_tag = l.lip_tag.get();
       std::uint32_t* const lip_magnitude = l.lip_magnitude.get();
       std::uint32_t* const lis_vertex = l.lis_vertex.get();
       std::uint8_t* const lis_tag = l.lis_tag.get();
@@ -183,12 +184,13 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
         l.lsp_size = lsp_size;
         return false;
       };
-      // A coefficient found significant: its sign, then it joins the LSP.
-      auto newly_significant = [&](std::uint32_t v, int level, std::uint32_t magnitude) {
-        const int negative = io.sign(kEncoder && io.negative(v, c));
+      // A coefficient found significant: its sign, then it joins the LSP. `tag` is its level,
+      // and for the encoder also its sign (kNegativeTag).
+      auto newly_significant = [&](std::uint32_t v, std::uint8_t tag, std::uint32_t magnitude) {
+        const int negative = io.sign(kEncoder && (tag & kNegativeTag) != 0);
         if (negative < 0) return false;
         lsp_vertex[lsp_size] = v;
-        lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
+        lsp_tag[lsp_size] = static_cast<std::uint8_t>((tag & kLevelMask) | (negative ? kNegativeTag : 0));
         lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
         ++lsp_size;
         return true;
@@ -198,15 +200,15 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
       std::size_t keep = 0;
       for (std::size_t i = 0; i < lip_size; ++i) {
         const std::uint32_t v = lip_vertex[i];
-        const int level = lip_level[i];
+        const std::uint8_t tag = lip_tag[i];
         const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
-        const int s = io.bit(models.lip[level][c], kEncoder && (magnitude >> n) != 0);
+        const int s = io.bit(models.lip[tag & kLevelMask][c], kEncoder && (magnitude >> n) != 0);
         if (s < 0) return stop();
         if (s) {
-          if (!newly_significant(v, level, magnitude)) return stop();
+          if (!newly_significant(v, tag, magnitude)) return stop();
         } else {
           lip_vertex[keep] = v;
-          lip_level[keep] = static_cast<std::uint8_t>(level);
+          lip_tag[keep] = tag;
           if constexpr (kEncoder) lip_magnitude[keep] = magnitude;
           ++keep;
         }
@@ -216,6 +218,24 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
       // Sorting pass, LIS: grows while it is walked, compacted in place behind the walk.
       keep = 0;
       for (std::size_t i = 0; i < lis_size; ++i) {
+        // A set found significant reads its vertex's children, a cache miss in a large forest:
+        // ask for them kPrefetchDistance entries ahead (a no-op for the few roots).
+        if (i + kPrefetchDistance < lis_size) {
+          const std::uint32_t ahead = lis_vertex[i + kPrefetchDistance];
+          if (ahead >= roots) __builtin_prefetch(odd_children + 4 * std::size_t{ahead - roots});
+        }
+        // The encoder then reads the children's magnitudes: half as far ahead, whose children
+        // are in cache by now.
+        if constexpr (kEncoder) {
+          if (i + kPrefetchDistance / 2 < lis_size) {
+            const std::uint32_t ahead = lis_vertex[i + kPrefetchDistance / 2];
+            if (ahead >= roots) {
+              const std::uint32_t* slots = odd_children + 4 * std::size_t{ahead - roots};
+              for (int k = 0; k < 4; ++k)
+                if (slots[k] != Forest::kNoChild) io.prefetch(slots[k], c);
+            }
+          }
+        }
         const std::uint32_t v = lis_vertex[i];
         const std::uint8_t tag = lis_tag[i];
         const int level = tag >> 1;
@@ -237,14 +257,15 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
           for (std::uint32_t k = 0; k < count; ++k) {
             const std::uint32_t child = first[k];
             const std::uint32_t magnitude = kEncoder ? io.magnitude(child, c) : 0;
+            const auto child_tag = static_cast<std::uint8_t>((level + 1) | (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
             const int cs = io.bit(models.child[level + 1][c][std::min(found, 3)], kEncoder && (magnitude >> n) != 0);
             if (cs < 0) return stop();
             if (cs) {
-              if (!newly_significant(child, level + 1, magnitude)) return stop();
+              if (!newly_significant(child, child_tag, magnitude)) return stop();
               ++found;
             } else {
               lip_vertex[lip_size] = child;
-              lip_level[lip_size] = static_cast<std::uint8_t>(level + 1);
+              lip_tag[lip_size] = child_tag;
               if constexpr (kEncoder) lip_magnitude[lip_size] = magnitude;
               ++lip_size;
             }
@@ -295,21 +316,24 @@ class EncoderIo {
  public:
   static constexpr bool kEncoder = true;
 
-  EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder) : q_(q), encoder_(encoder), k_(q.components) {
-    // Bottom-up bit widths of the maxima: descendants[v] of |c| over D(v), grandchildren[v] over
-    // L(v) = D(v) minus the children. Children always have larger indices than their parent.
-    const std::size_t n = q.magnitude.size();
-    descendants_.assign(n, 0);
-    grandchildren_.assign(n, 0);
-    const std::size_t K = static_cast<std::size_t>(k_);
-    for (std::uint32_t v = f.vertex_count(); v-- > 0;)
-      for (const std::size_t child : f.children(v)) {
-        for (std::size_t c = 0; c < K; ++c) {
-          const std::size_t pv = std::size_t{v} * K + c, pc = child * K + c;
-          descendants_[pv] = std::max({descendants_[pv], width(q.magnitude[pc]), descendants_[pc]});
-          grandchildren_[pv] = std::max(grandchildren_[pv], descendants_[pc]);
+  EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder)
+      : coefficients_(q.magnitude.size()), encoder_(encoder), k_(static_cast<std::size_t>(q.components)) {
+    // Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
+    // Children always have larger indices than their parent.
+    for (std::uint32_t v = f.vertex_count(); v-- > 0;) {
+      Coefficient* x = &coefficients_[index(v, 0)];
+      for (std::size_t c = 0; c < k_; ++c) {
+        x[c].magnitude = q.magnitude[index(v, c)];
+        x[c].negative = q.negative[index(v, c)] != 0;
+      }
+      for (const std::uint32_t child : f.children(v)) {
+        const Coefficient* y = &coefficients_[index(child, 0)];
+        for (std::size_t c = 0; c < k_; ++c) {
+          x[c].descendants_width = std::max({x[c].descendants_width, width(y[c].magnitude), y[c].descendants_width});
+          x[c].grandchildren_width = std::max(x[c].grandchildren_width, y[c].descendants_width);
         }
       }
+    }
   }
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
@@ -320,17 +344,24 @@ class EncoderIo {
     encoder_.encode_direct(negative ? 1 : 0, 1);
     return negative ? 1 : 0;
   }
-  std::uint32_t magnitude(std::uint32_t v, int c) const { return q_.magnitude[index(v, c)]; }
-  bool negative(std::uint32_t v, int c) const { return q_.negative[index(v, c)] != 0; }
-  std::uint8_t descendants_width(std::uint32_t v, int c) const { return descendants_[index(v, c)]; }
-  std::uint8_t grandchildren_width(std::uint32_t v, int c) const { return grandchildren_[index(v, c)]; }
+  void prefetch(std::uint32_t v, int c) const { __builtin_prefetch(&coefficients_[index(v, c)]); }
+  std::uint32_t magnitude(std::uint32_t v, int c) const { return coefficients_[index(v, c)].magnitude; }
+  bool negative(std::uint32_t v, int c) const { return coefficients_[index(v, c)].negative; }
+  std::uint8_t descendants_width(std::uint32_t v, int c) const { return coefficients_[index(v, c)].descendants_width; }
+  std::uint8_t grandchildren_width(std::uint32_t v, int c) const { return coefficients_[index(v, c)].grandchildren_width; }
 
  private:
-  std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * static_cast<std::size_t>(k_) + static_cast<std::size_t>(c); }
-  const Quantized& q_;
+  /// What the passes ask of a coefficient, together (one cache line holds a vertex's).
+  struct Coefficient {
+    std::uint32_t magnitude = 0;
+    bool negative = false;
+    std::uint8_t descendants_width = 0, grandchildren_width = 0;
+  };
+  std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * k_ + static_cast<std::size_t>(c); }
+  std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
+  std::vector<Coefficient> coefficients_;
   RangeEncoder& encoder_;
-  int k_;
-  std::vector<std::uint8_t> descendants_, grandchildren_;
+  std::size_t k_;
 };
 
 class DecoderIo {

@@ -87,7 +87,7 @@ class RangeEncoder {
     for (int i = bits - 1; i >= 0; --i) {
       normalize();
       range_ >>= 1;
-      if ((value >> i) & 1u) low_ += range_;
+      low_ += range_ & (0u - ((value >> i) & 1u));  // branch-free: signs are close to equiprobable
     }
   }
 
