@@ -137,11 +137,13 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
       base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
       detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
     }
+    // Insignificant coefficients are 0 (the zeros the vector starts with).
     std::vector<double> values(std::size_t{h.vertex_count(L)} * k_stride);
-    for (int j = 0; j <= L; ++j)
-      for (std::size_t i = k_stride * (j == 0 ? 0 : h.vertex_count(j - 1)); i < k_stride * h.vertex_count(j); ++i)
-        values[i] = zerotree::dequantize(decoded.value(i), (j == 0 ? base_step : detail_step)[i % k_stride],
-                                         header.level_weights[j]);
+    decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
+      const auto c = static_cast<std::size_t>(x.component);
+      values[k_stride * x.vertex + c] = zerotree::dequantize(x.steps(), (x.level == 0 ? base_step : detail_step)[c],
+                                                             header.level_weights[static_cast<std::size_t>(x.level)]);
+    });
 
     DecodeResult result;
     result.levels = L;

@@ -38,6 +38,11 @@ Forest::Forest(const SemiRegularHierarchy& h) {
     }
 }
 
+SignificantList::SignificantList(std::size_t capacity)
+    : vertex(std::make_unique_for_overwrite<std::uint32_t[]>(capacity)),
+      tag(std::make_unique_for_overwrite<std::uint8_t[]>(capacity)),
+      magnitude(std::make_unique_for_overwrite<std::uint32_t[]>(capacity)) {}
+
 int top_plane(const Quantized& q) {
   std::uint32_t m = 0;
   for (std::uint32_t x : q.magnitude) m = std::max(m, x);
@@ -83,17 +88,10 @@ struct ComponentLists {
   std::unique_ptr<std::uint8_t[]> lis_tag;
   std::unique_ptr<std::uint8_t[]> lis_width;  // encoder only: bit width of the largest magnitude in the set
   std::size_t lis_size = 0;
-  // LSP: vertex, level | negative << 7, and the magnitude (decoder: the bits known so far; the
-  // encoder: the whole magnitude). Capacity V.
-  std::unique_ptr<std::uint32_t[]> lsp_vertex;
-  std::unique_ptr<std::uint8_t[]> lsp_tag;
-  std::unique_ptr<std::uint32_t[]> lsp_magnitude;
-  std::size_t lsp_size = 0;
-  // Of the current plane: LSP entries [0, refine_count) were significant before it, and
-  // [0, refined) of them have had its refinement bit.
-  std::size_t refine_count = 0, refined = 0;
+  // LSP (the encoder's magnitudes are whole). Capacity V.
+  SignificantList lsp;
 
-  ComponentLists(const Forest& f, bool encoder) {
+  ComponentLists(const Forest& f, bool encoder) : lsp(f.vertex_count()) {
     const std::uint32_t V = f.vertex_count();
     std::size_t parents = f.odd_children.size() / 4;
     for (std::uint32_t v = 0; v < f.roots; ++v) parents += !f.children(v).empty();
@@ -101,9 +99,6 @@ struct ComponentLists {
     lip_tag = reserve<std::uint8_t>(V);
     lis_vertex = reserve<std::uint32_t>(2 * parents);
     lis_tag = reserve<std::uint8_t>(2 * parents);
-    lsp_vertex = reserve<std::uint32_t>(V);
-    lsp_tag = reserve<std::uint8_t>(V);
-    lsp_magnitude = reserve<std::uint32_t>(V);
     if (encoder) {
       lip_magnitude = reserve<std::uint32_t>(V);
       lis_width = reserve<std::uint8_t>(2 * parents);
@@ -111,9 +106,9 @@ struct ComponentLists {
   }
 };
 
-constexpr std::uint8_t kNegativeTag = 0x80;
+constexpr std::uint8_t kNegativeTag = SignificantList::kNegativeTag;
+constexpr std::uint8_t kLevelMask = SignificantList::kLevelMask;
 constexpr std::size_t kPrefetchDistance = 16;
-constexpr std::uint8_t kLevelMask = 0x7f;
 
 // One SPIHT run, shared by encoder and decoder. Io supplies the decisions: the encoder computes
 // and codes them, the decoder decodes them and returns -1 once the stream is exhausted, where
@@ -163,8 +158,8 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
   for (int n = top; n >= 0; --n) {
     io.begin_plane(n);
     for (ComponentLists& l : lists) {
-      l.refine_count = l.lsp_size;
-      l.refined = 0;
+      l.lsp.refine_count = l.lsp.size;
+      l.lsp.refined = 0;
     }
     for (int c = 0; c < components; ++c) {
       ComponentLists& l = lists[static_cast<std::size_t>(c)];
@@ -175,13 +170,13 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
       std::uint32_t* const lis_vertex = l.lis_vertex.get();
       std::uint8_t* const lis_tag = l.lis_tag.get();
       std::uint8_t* const lis_width = l.lis_width.get();
-      std::uint32_t* const lsp_vertex = l.lsp_vertex.get();
-      std::uint8_t* const lsp_tag = l.lsp_tag.get();
-      std::uint32_t* const lsp_magnitude = l.lsp_magnitude.get();
-      std::size_t lip_size = l.lip_size, lis_size = l.lis_size, lsp_size = l.lsp_size;
+      std::uint32_t* const lsp_vertex = l.lsp.vertex.get();
+      std::uint8_t* const lsp_tag = l.lsp.tag.get();
+      std::uint32_t* const lsp_magnitude = l.lsp.magnitude.get();
+      std::size_t lip_size = l.lip_size, lis_size = l.lis_size, lsp_size = l.lsp.size;
       const std::uint32_t bit_n = std::uint32_t{1} << n;
       auto stop = [&] {
-        l.lsp_size = lsp_size;
+        l.lsp.size = lsp_size;
         return false;
       };
       // A coefficient found significant: its sign, then it joins the LSP. `tag` is its level,
@@ -293,17 +288,17 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
 
       // Refinement pass: bit n of each magnitude (the decoder ORs it in; for the encoder, whose
       // magnitude already has it, that changes nothing).
-      for (std::size_t i = 0; i < l.refine_count; ++i) {
+      for (std::size_t i = 0; i < l.lsp.refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
         const int b = io.bit(models.refine[lsp_tag[i] & kLevelMask][c], kEncoder && (magnitude & bit_n) != 0);
         if (b < 0) {
-          l.refined = i;
+          l.lsp.refined = i;
           return stop();
         }
         lsp_magnitude[i] = magnitude | (static_cast<std::uint32_t>(b) << n);
       }
-      l.refined = l.refine_count;
-      l.lsp_size = lsp_size;
+      l.lsp.refined = l.lsp.refine_count;
+      l.lsp.size = lsp_size;
     }
   }
   return true;
@@ -402,31 +397,18 @@ Decoded decode(const Forest& forest, int components, int top, RangeDecoder& deco
   if (components < 1 || components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   Decoded out;
   out.components = components;
-  const std::size_t K = static_cast<std::size_t>(components);
-  std::vector<ComponentLists> lists;
-  if (top >= 0) {
-    lists.reserve(K);
-    for (std::size_t c = 0; c < K; ++c) lists.emplace_back(forest, false);
-    DecoderIo io(decoder);
-    out.complete = run(forest, components, top, io, lists);
-    decoder = io.decoder();
-    out.last_plane = io.last_plane();
-  } else {
+  if (top < 0) {
     out.complete = true;
+    return out;
   }
-  out.known.assign(std::size_t{forest.vertex_count()} * K, 0);
-  out.flags.assign(out.known.size(), 0);
-  for (std::size_t c = 0; c < lists.size(); ++c) {
-    const ComponentLists& l = lists[c];
-    // Entries [refined, refine_count) were significant before last_plane and did not get its
-    // bit: their lowest known plane is last_plane + 1. All others were refined or found in it.
-    for (std::size_t i = 0; i < l.lsp_size; ++i) {
-      const std::size_t at = std::size_t{l.lsp_vertex[i]} * K + c;
-      out.known[at] = l.lsp_magnitude[i];
-      out.flags[at] = static_cast<std::uint8_t>(((l.lsp_tag[i] & kNegativeTag) ? Decoded::kNegative : 0) |
-                                                (i >= l.refined && i < l.refine_count ? Decoded::kAboveLastPlane : 0));
-    }
-  }
+  std::vector<ComponentLists> lists;
+  lists.reserve(static_cast<std::size_t>(components));
+  for (int c = 0; c < components; ++c) lists.emplace_back(forest, false);
+  DecoderIo io(decoder);
+  out.complete = run(forest, components, top, io, lists);
+  decoder = io.decoder();
+  out.last_plane = io.last_plane();
+  for (ComponentLists& l : lists) out.significant.push_back(std::move(l.lsp));
   return out;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -65,24 +66,59 @@ int top_plane(const Quantized& q);
 
 void encode(const Forest& forest, const Quantized& q, int top_plane, RangeEncoder& encoder);
 
-/// What the decoder knows of each coefficient: insignificant (known == 0), or magnitude bits
-/// known down to low_plane(i), |c| in [known, known + 2^low_plane(i)) steps. Every plane is
-/// decoded whole before the next begins, so a significant coefficient's lowest known plane is
-/// last_plane, or last_plane + 1 if the stream ended before its bit of last_plane: one flag.
+/// SPIHT's list of significant coefficients (LSP) of one component, in the order they became
+/// significant, as parallel arrays of capacity `capacity` (pages become resident as they fill):
+/// vertex; level | kNegativeTag; magnitude (the decoder's: the bits known so far).
+struct SignificantList {
+  static constexpr std::uint8_t kNegativeTag = 0x80;
+  static constexpr std::uint8_t kLevelMask = 0x7f;
+
+  std::unique_ptr<std::uint32_t[]> vertex;
+  std::unique_ptr<std::uint8_t[]> tag;
+  std::unique_ptr<std::uint32_t[]> magnitude;
+  std::size_t size = 0;
+  /// Of the plane being coded: entries [0, refine_count) were significant before it, and
+  /// [0, refined) of them have had its refinement bit.
+  std::size_t refine_count = 0, refined = 0;
+
+  explicit SignificantList(std::size_t capacity);
+};
+
+/// What the decoder knows: the significant coefficients, per component; every other one is 0.
+/// Every plane is decoded whole before the next begins, so a significant coefficient's lowest
+/// known plane is last_plane, or last_plane + 1 if the stream ended before its bit of
+/// last_plane (the LSP entries [refined, refine_count) of each component).
 struct Decoded {
-  static constexpr std::uint8_t kNegative = 1;
-  static constexpr std::uint8_t kAboveLastPlane = 2;  ///< low_plane is last_plane + 1
+  /// A significant coefficient: its magnitude lies in [known, known + 2^low_plane) steps.
+  struct Coefficient {
+    std::uint32_t vertex;
+    int component;
+    int level;  ///< of the vertex
+    std::uint32_t known;
+    int low_plane;
+    bool negative;
+    /// Reconstruction in steps: the midpoint of the interval, signed.
+    double steps() const { return midpoint(known, low_plane, negative); }
+  };
 
   int components = kGeometryComponents;
-  std::vector<std::uint32_t> known;
-  std::vector<std::uint8_t> flags;  ///< kNegative | kAboveLastPlane
+  std::vector<SignificantList> significant;  ///< one per component (none if top_plane < 0)
   int last_plane = -1;  ///< the lowest plane the decoder reached (partly or wholly)
   bool complete = false;
 
-  int low_plane(std::size_t i) const { return last_plane + ((flags[i] & kAboveLastPlane) != 0); }
-  bool negative(std::size_t i) const { return (flags[i] & kNegative) != 0; }
-  /// Reconstruction in steps: the midpoint of the interval, signed; 0 if insignificant.
-  double value(std::size_t i) const { return known[i] == 0 ? 0.0 : midpoint(known[i], low_plane(i), negative(i)); }
+  /// Calls f(const Coefficient&) for every significant coefficient, component by component.
+  template <class F>
+  void for_each(F&& f) const {
+    for (std::size_t c = 0; c < significant.size(); ++c) {
+      const SignificantList& l = significant[c];
+      for (std::size_t i = 0; i < l.size; ++i) {
+        const std::uint8_t tag = l.tag[i];
+        f(Coefficient{l.vertex[i], static_cast<int>(c), tag & SignificantList::kLevelMask, l.magnitude[i],
+                      last_plane + (i >= l.refined && i < l.refine_count ? 1 : 0),
+                      (tag & SignificantList::kNegativeTag) != 0});
+      }
+    }
+  }
 
   /// A magnitude known to lie in [known, known + 2^low_plane) steps, reconstructed at the middle
   /// of that interval, signed (FORMAT.md §5); 0 if insignificant. The encoder's closed loop uses
@@ -94,8 +130,8 @@ struct Decoded {
   }
 };
 
-/// A coefficient in the transform domain from its reconstruction in steps (Decoded::value, or
-/// the encoder's own full-rate midpoint): steps * step / w_j. One function for both sides, so
+/// A coefficient in the transform domain from its reconstruction in steps (Decoded::Coefficient::steps,
+/// or the encoder's own full-rate midpoint): steps * step / w_j. One function for both sides, so
 /// that the encoder's closed loop (local frames) sees bit for bit what the decoder will.
 inline double dequantize(double steps, double step, double weight) { return steps * step / weight; }
 
