@@ -17,6 +17,9 @@
 
 #include "test_meshes.h"
 #include "meshlift/codec.h"
+#include "meshlift/container.h"
+// The coefficient coder is internal to the codec library (no public header): timed alone here.
+#include "../codec/zerotree_coder.h"
 
 using namespace meshlift;
 
@@ -168,6 +171,50 @@ int main(int argc, char** argv) {
                     whole_file.system - hierarchy_time.system - tables_time.system - synthesis_time.system};
   print_timing("rest of a decode", rest, V, "(whole-file decode minus the three stages above: container, base mesh,");
   std::printf("  %-22s %s\n", "", "coefficient tree and decoding, dequantization)");
+
+  // The coefficient coder alone (SPIHT and the range coder, zerotree_coder.h): on the coefficient
+  // bytes a decode of the ~2 bpv prefix and of the whole file gets, over the forest of the
+  // canonically ordered mesh (the encoder's); then encoding what the whole file decodes to,
+  // which must give the file's bytes back.
+  {
+    const SemiRegularMesh ordered = canonical_order(mesh);
+    const zerotree::Forest forest(ordered.hierarchy);
+    const int top = inspect(file).top_plane;
+    auto coefficient_bytes = [&](std::size_t budget) {
+      ContainerReader reader;
+      std::vector<std::uint8_t> bytes;
+      if (reader.parse(std::span(file).first(std::min(budget, file.size()))) != Status::ok) return bytes;
+      for (const Chunk& c : reader.chunks())
+        if (c.tag == kTagCoefficients) bytes.insert(bytes.end(), c.payload.begin(), c.payload.end());
+      return bytes;
+    };
+    zerotree::Decoded decoded;
+    for (std::size_t budget : {two_bpv, file.size()}) {
+      const std::vector<std::uint8_t> bytes = coefficient_bytes(budget);
+      const Timing t = best_of(runs, [&] {
+        RangeDecoder decoder(bytes);
+        decoded = zerotree::decode(forest, zerotree::kGeometryComponents, top, decoder);
+      });
+      const std::string what = "SPIHT decode " + std::to_string(8.0 * std::min(budget, file.size()) / V).substr(0, 4) + " bpv";
+      print_timing(what.c_str(), t, V, "(coefficient bytes only)");
+    }
+    zerotree::Quantized q;
+    q.magnitude.assign(static_cast<std::size_t>(V) * zerotree::kGeometryComponents, 0);
+    q.negative.assign(q.magnitude.size(), 0);
+    decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
+      const std::size_t i = std::size_t{x.vertex} * zerotree::kGeometryComponents + static_cast<std::size_t>(x.component);
+      q.magnitude[i] = x.known;
+      q.negative[i] = x.negative;
+    });
+    decoded = {};
+    std::vector<std::uint8_t> bytes;
+    const Timing t = best_of(runs, [&] {
+      RangeEncoder encoder;
+      zerotree::encode(forest, q, top, encoder);
+      bytes = encoder.finish();
+    });
+    print_timing("SPIHT encode", t, V, bytes == coefficient_bytes(file.size()) ? "(the file's coefficient bytes)" : "(BYTES DIFFER FROM THE FILE'S)");
+  }
 
   std::printf("memory:\n");
   std::printf("  hierarchy %.1f bytes/vertex, stencil tables %.1f bytes/vertex (their own accounting)\n",

@@ -214,15 +214,17 @@ bool run(const Forest& f, int components, int top, Io& io, std::vector<Component
       keep = 0;
       for (std::size_t i = 0; i < lis_size; ++i) {
         // A set found significant reads its vertex's children, a cache miss in a large forest:
-        // ask for them kPrefetchDistance entries ahead (a no-op for the few roots).
-        if (i + kPrefetchDistance < lis_size) {
+        // ask for them kPrefetchDistance entries ahead (a no-op for the few roots). The encoder
+        // knows which sets will be significant, and also reads their vertex's and children's
+        // coefficient records: it asks for those, the children's half as far ahead (their
+        // slots are in cache by then).
+        if (i + kPrefetchDistance < lis_size && (!kEncoder || lis_width[i + kPrefetchDistance] > n)) {
           const std::uint32_t ahead = lis_vertex[i + kPrefetchDistance];
           if (ahead >= roots) __builtin_prefetch(odd_children + 4 * std::size_t{ahead - roots});
+          if constexpr (kEncoder) io.prefetch(ahead, c);
         }
-        // The encoder then reads the children's magnitudes: half as far ahead, whose children
-        // are in cache by now.
         if constexpr (kEncoder) {
-          if (i + kPrefetchDistance / 2 < lis_size) {
+          if (i + kPrefetchDistance / 2 < lis_size && lis_width[i + kPrefetchDistance / 2] > n) {
             const std::uint32_t ahead = lis_vertex[i + kPrefetchDistance / 2];
             if (ahead >= roots) {
               const std::uint32_t* slots = odd_children + 4 * std::size_t{ahead - roots};
@@ -316,6 +318,9 @@ class EncoderIo {
     // Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
     // Children always have larger indices than their parent.
     for (std::uint32_t v = f.vertex_count(); v-- > 0;) {
+      // The inner-edge children are far from the halves: ask for them a few vertices ahead.
+      if (v >= kPrefetchDistance)
+        for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance))) prefetch(child, 0);
       Coefficient* x = &coefficients_[index(v, 0)];
       for (std::size_t c = 0; c < k_; ++c) {
         x[c].magnitude = q.magnitude[index(v, c)];
