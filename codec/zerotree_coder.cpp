@@ -121,8 +121,18 @@ constexpr std::size_t kPrefetchDistance = 16;
 //   Refinement pass: bit n of every coefficient that was significant before this plane.
 // Returns false where the decoder's input ran out; `lists` then hold what was decoded.
 template <class Io>
-bool run(const Forest& f, int components, int top, Io& io, std::vector<ComponentLists>& lists) {
+bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<ComponentLists>& lists) {
   constexpr bool kEncoder = Io::kEncoder;
+  // The passes work on a local Io, handed back on every exit: a local whose address does not
+  // escape can live in registers (the decoder's range and code), where one behind a reference
+  // would be stored and reloaded around every byte store (which may alias anything).
+  struct HandBack {
+    Io& to;
+    Io& from;
+    ~HandBack() { to = std::move(from); }
+  };
+  Io io(std::move(caller_io));
+  const HandBack hand_back{caller_io, io};
   Models models;
   // Only vertices with children have LIS entries: the children of v of level `level`.
   const std::uint32_t roots = f.roots;
@@ -314,7 +324,7 @@ class EncoderIo {
   static constexpr bool kEncoder = true;
 
   EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder)
-      : coefficients_(q.magnitude.size()), encoder_(encoder), k_(static_cast<std::size_t>(q.components)) {
+      : coefficients_(q.magnitude.size()), encoder_(&encoder), k_(static_cast<std::size_t>(q.components)) {
     // Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
     // Children always have larger indices than their parent.
     for (std::uint32_t v = f.vertex_count(); v-- > 0;) {
@@ -337,11 +347,11 @@ class EncoderIo {
   }
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
-    encoder_.encode(m, value ? 1 : 0);
+    encoder_->encode(m, value ? 1 : 0);
     return value ? 1 : 0;
   }
   int sign(bool negative) {
-    encoder_.encode_direct(negative ? 1 : 0, 1);
+    encoder_->encode_direct(negative ? 1 : 0, 1);
     return negative ? 1 : 0;
   }
   void prefetch(std::uint32_t v, int c) const { __builtin_prefetch(&coefficients_[index(v, c)]); }
@@ -360,7 +370,7 @@ class EncoderIo {
   std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * k_ + static_cast<std::size_t>(c); }
   std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
   std::vector<Coefficient> coefficients_;
-  RangeEncoder& encoder_;
+  RangeEncoder* encoder_;
   std::size_t k_;
 };
 
