@@ -213,7 +213,8 @@ int main(int argc, char** argv) {
       zerotree::encode(forest, q, top, encoder);
       bytes = encoder.finish();
     });
-    print_timing("SPIHT encode", t, V, bytes == coefficient_bytes(file.size()) ? "(the file's coefficient bytes)" : "(BYTES DIFFER FROM THE FILE'S)");
+    const bool same = bytes == coefficient_bytes(file.size());
+    print_timing("SPIHT encode", t, V, same ? "(the file's coefficient bytes)" : "(BYTES DIFFER FROM THE FILE'S)");
   }
 
   std::printf("memory:\n");

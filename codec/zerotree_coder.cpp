@@ -134,7 +134,8 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
   Io io(std::move(caller_io));
   const HandBack hand_back{caller_io, io};
   Models models;
-  // Only vertices with children have LIS entries: the children of v of level `level`.
+  // The children of a vertex that has some (only those have LIS entries): a root's from its
+  // offsets, an odd vertex's from its 4 slots.
   const std::uint32_t roots = f.roots;
   const std::uint32_t* const root_child_offsets = f.root_child_offsets.data();
   const std::uint32_t* const root_children = f.root_children.data();
@@ -264,7 +265,8 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
           for (std::uint32_t k = 0; k < count; ++k) {
             const std::uint32_t child = first[k];
             const std::uint32_t magnitude = kEncoder ? io.magnitude(child, c) : 0;
-            const auto child_tag = static_cast<std::uint8_t>((level + 1) | (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
+            const auto child_tag =
+                static_cast<std::uint8_t>((level + 1) | (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
             const int cs = io.bit(models.child[level + 1][c][std::min(found, 3)], kEncoder && (magnitude >> n) != 0);
             if (cs < 0) return stop();
             if (cs) {
@@ -300,7 +302,8 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
 
       // Refinement pass: bit n of each magnitude (the decoder ORs it in; for the encoder, whose
       // magnitude already has it, that changes nothing).
-      for (std::size_t i = 0; i < l.lsp.refine_count; ++i) {
+      const std::size_t refine_count = l.lsp.refine_count;
+      for (std::size_t i = 0; i < refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
         const int b = io.bit(models.refine[lsp_tag[i] & kLevelMask][c], kEncoder && (magnitude & bit_n) != 0);
         if (b < 0) {
@@ -309,7 +312,7 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         }
         lsp_magnitude[i] = magnitude | (static_cast<std::uint32_t>(b) << n);
       }
-      l.lsp.refined = l.lsp.refine_count;
+      l.lsp.refined = refine_count;
       l.lsp.size = lsp_size;
     }
   }
@@ -330,7 +333,8 @@ class EncoderIo {
     for (std::uint32_t v = f.vertex_count(); v-- > 0;) {
       // The inner-edge children are far from the halves: ask for them a few vertices ahead.
       if (v >= kPrefetchDistance)
-        for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance))) prefetch(child, 0);
+        for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance)))
+          prefetch(child, 0);
       Coefficient* x = &coefficients_[index(v, 0)];
       for (std::size_t c = 0; c < k_; ++c) {
         x[c].magnitude = q.magnitude[index(v, c)];
@@ -361,7 +365,7 @@ class EncoderIo {
   std::uint8_t grandchildren_width(std::uint32_t v, int c) const { return coefficients_[index(v, c)].grandchildren_width; }
 
  private:
-  /// What the passes ask of a coefficient, together (one cache line holds a vertex's).
+  /// What the passes ask of a coefficient, together: 8 bytes, a vertex's K side by side.
   struct Coefficient {
     std::uint32_t magnitude = 0;
     bool negative = false;
@@ -378,7 +382,7 @@ class DecoderIo {
  public:
   static constexpr bool kEncoder = false;
 
-  /// Decodes from a copy of `decoder` (kept in registers in the passes), written back by finish().
+  /// Decodes from a copy of `decoder` (kept in registers in the passes); decoder() gives it back.
   explicit DecoderIo(const RangeDecoder& decoder) : decoder_(decoder) {}
   void begin_plane(int n) { last_plane_ = n; }
   int bit(BitModel& m, bool) { return decoder_.try_decode(m); }

@@ -185,6 +185,47 @@ TEST_CASE("range coder: once exhausted - decoding returns 0 without consuming or
   CHECK(model.count == before.count);
 }
 
+TEST_CASE("range coder: try_decode and try_decode_direct_bit are decode and decode_direct(1) with exhausted()",
+          "[range_coder][truncation]") {
+  // The coefficient coder's fast path: the same bits, models, positions and statuses as the
+  // two calls it replaces, at every cut of the stream, with -1 exactly where exhausted() turns.
+  auto symbols = make_symbols(4000, 17, 0.2);
+  for (Symbol& s : symbols)
+    if (s.direct) {
+      s.bits = 1;
+      s.value &= 1;
+    }
+  const auto bytes = encode_symbols(symbols);
+  std::size_t stops = 0;
+  for (std::size_t length = 0; length <= bytes.size(); ++length) {
+    const std::span<const std::uint8_t> prefix = std::span(bytes).first(length);
+    RangeDecoder reference(prefix), fast(prefix);
+    std::vector<BitModel> reference_models(kContexts), fast_models(kContexts);
+    std::size_t i = 0;
+    for (; i < symbols.size(); ++i) {
+      const Symbol& s = symbols[i];
+      const std::size_t k = static_cast<std::size_t>(s.context);
+      const int expected = s.direct ? static_cast<int>(reference.decode_direct(1)) : reference.decode(reference_models[k]);
+      const int got = s.direct ? fast.try_decode_direct_bit() : fast.try_decode(fast_models[k]);
+      if (reference.exhausted()) {
+        CHECK(got == -1);
+      } else if (got != expected) {
+        FAIL_CHECK("symbol " << i << " of a " << length << "-byte prefix: " << got << " != " << expected);
+      }
+      if (!s.direct) {
+        CHECK(fast_models[k].p == reference_models[k].p);
+        CHECK(fast_models[k].count == reference_models[k].count);
+      }
+      CHECK(fast.position() == reference.position());
+      CHECK(fast.status() == reference.status());
+      if (reference.exhausted()) break;
+    }
+    stops += i < symbols.size();
+    if (length == bytes.size()) CHECK(i == symbols.size());
+  }
+  CHECK(stops == bytes.size());  // every shorter prefix stops somewhere
+}
+
 TEST_CASE("range coder: short - empty and malformed streams", "[range_coder][robustness]") {
   BitModel model;
   RangeDecoder empty;
