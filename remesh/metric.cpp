@@ -8,32 +8,11 @@
 #include <string>
 #include <thread>
 
+#include "parallel.h"
+
 namespace meshlift {
 
 namespace {
-
-/// Runs body(begin, end) over [0, count) in blocks of 4096 on `threads` threads (block b goes to
-/// thread b mod threads). Bodies write per-index results only, so the outcome never depends on
-/// the thread count or the scheduling.
-template <typename Body>
-void parallel_blocks(std::size_t count, unsigned threads, const Body& body) {
-  constexpr std::size_t kBlock = 4096;
-  const std::size_t blocks = (count + kBlock - 1) / kBlock;
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(blocks, 1)));
-  auto worker = [&](unsigned t) {
-    for (std::size_t b = t; b < blocks; b += threads) body(b * kBlock, std::min(count, (b + 1) * kBlock));
-  };
-  if (threads <= 1) {
-    worker(0);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-  worker(0);
-  for (auto& thread : pool) thread.join();
-}
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a counter-based generator, so sample i's numbers depend
 /// only on (seed, i), not on which thread draws them or in what order.
@@ -100,29 +79,22 @@ double SurfaceDistance::psnr_db() const {
   return rms > 0 ? 20 * std::log10(diagonal / rms) : std::numeric_limits<double>::infinity();
 }
 
-SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads)
-    : query_(mesh) {
-  const TriangleMesh& m = query_.mesh();
+std::vector<double> area_samples(const TriangleMesh& m, std::size_t samples, std::uint64_t seed, unsigned threads,
+                                 std::vector<std::uint32_t>* sample_faces) {
   const std::size_t faces = m.face_count();
-
   // Stratified sampling by area: the cumulative areas A_0 ≤ A_1 ≤ ... ≤ A_F laid end to end,
   // sample i at t_i = (i + u_i)/N · A_F lands in the face f with A_f ≤ t_i < A_{f+1}. Each face
   // receives its area's share of the N samples (±1), with less clumping than N independent draws.
   std::vector<double> cumulative(faces + 1, 0.0);
   for (std::size_t f = 0; f < faces; ++f) cumulative[f + 1] = cumulative[f] + triangle_area(m, f);
   const double total = cumulative[faces];
-  area_samples_ = total > 0 ? samples : 0;
-
-  std::vector<char> used(m.vertex_count(), 0);
-  for (std::uint32_t v : m.triangles) used[v] = 1;
-  std::size_t used_count = 0;
-  for (char u : used) used_count += u;
-  points_.resize(3 * (area_samples_ + used_count));
-
-  parallel_blocks(area_samples_, threads, [&](std::size_t begin, std::size_t end) {
+  if (!(total > 0)) return {};
+  std::vector<double> points(3 * samples);
+  if (sample_faces) sample_faces->resize(samples);
+  parallel_blocks(samples, threads, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       std::uint64_t state = seed ^ (0xD1B54A32D192ED03ULL * (i + 1));
-      const double t = (static_cast<double>(i) + unit(state)) / static_cast<double>(area_samples_) * total;
+      const double t = (static_cast<double>(i) + unit(state)) / static_cast<double>(samples) * total;
       const auto it = std::upper_bound(cumulative.begin() + 1, cumulative.end(), t);
       std::size_t f = std::min<std::size_t>(static_cast<std::size_t>(it - cumulative.begin()) - 1, faces - 1);
       while (f > 0 && cumulative[f + 1] == cumulative[f]) --f;  // never a zero-area face
@@ -131,9 +103,24 @@ SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, st
       const double r1 = std::sqrt(unit(state)), u2 = unit(state);
       const double wa = 1 - r1, wb = r1 * (1 - u2), wc = r1 * u2;
       const auto a = corner(m, f, 0), b = corner(m, f, 1), c = corner(m, f, 2);
-      for (int k = 0; k < 3; ++k) points_[3 * i + k] = wa * a[k] + wb * b[k] + wc * c[k];
+      for (int k = 0; k < 3; ++k) points[3 * i + k] = wa * a[k] + wb * b[k] + wc * c[k];
+      if (sample_faces) (*sample_faces)[i] = static_cast<std::uint32_t>(f);
     }
   });
+  return points;
+}
+
+SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads)
+    : query_(mesh) {
+  const TriangleMesh& m = query_.mesh();
+
+  std::vector<char> used(m.vertex_count(), 0);
+  for (std::uint32_t v : m.triangles) used[v] = 1;
+  std::size_t used_count = 0;
+  for (char u : used) used_count += u;
+  points_ = meshlift::area_samples(m, samples, seed, threads);
+  area_samples_ = points_.size() / 3;
+  points_.resize(3 * (area_samples_ + used_count));
 
   double low[3], high[3];
   for (int k = 0; k < 3; ++k) low[k] = std::numeric_limits<double>::infinity(), high[k] = -low[k];

@@ -7,7 +7,9 @@
 //                          every vertex of the L-times refined base;
 //   surface_fit.cpp        coarse to fine, the new vertices of each level are placed on the
 //                          input by normal shooting from the guide (or the butterfly prediction
-//                          from the level below), and folded faces are untangled.
+//                          from the level below), and folded faces are untangled;
+//   least_squares_fit.cpp  the vertices move off the surface where that brings the mesh
+//                          closer to it in the least-squares sense, both ways (Hoppe 1993).
 //   (geometry_image.cpp    --method sphere: the octahedral spherical geometry image instead.)
 #include "meshlift/remesh.h"
 
@@ -19,6 +21,7 @@
 #include "meshlift/decimate.h"
 #include "meshlift/geometry_image.h"
 #include "meshlift/interpolate.h"
+#include "meshlift/least_squares_fit.h"
 #include "meshlift/lifting.h"
 #include "meshlift/limit.h"
 #include "meshlift/metric.h"
@@ -32,7 +35,7 @@ namespace {
 
 /// Decimate, fit the base, build the guide, fit the refined mesh to the surface.
 RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateOptions& decimate_options,
-                         BaseFit fit, const std::function<void(double)>& report) {
+                         BaseFit fit, int least_squares_rounds, const std::function<void(double)>& report) {
   const DecimateResult decimated = decimate(mesh, decimate_options);
   report(0.1);
   const TriangleMesh& base = decimated.base;
@@ -62,8 +65,12 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   report(0.2);
 
   SurfaceFitOptions fit_options;
-  fit_options.progress = [&](double f) { report(0.2 + 0.7 * f); };
+  fit_options.progress = [&](double f) { report(0.2 + 0.5 * f); };
   fit_to_surface(result_mesh, guide, surface, fit_options);
+  LeastSquaresFitOptions least_squares;
+  least_squares.iterations = least_squares_rounds;
+  fit_least_squares(result_mesh, surface, least_squares);
+  report(0.9);
 
   RemeshResult result{std::move(result_mesh)};
   result.base_vertices = base.vertex_count();
@@ -87,6 +94,7 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels) {
 }
 
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
+  if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
   if (options.levels < 0 || options.levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " +
                     std::to_string(options.levels));
@@ -133,7 +141,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   decimate_options.levels = options.levels;
   decimate_options.target_vertices =
       options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels);
-  RemeshResult result = remesh_by_decimation(mesh, surface, decimate_options, options.fit, report);
+  RemeshResult result = remesh_by_decimation(mesh, surface, decimate_options, options.fit, options.least_squares_rounds, report);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
     // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.
     const double target = result.mesh.hierarchy.vertex_count(result.mesh.hierarchy.levels());

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "meshlift/lifting.h"
+#include "parallel.h"
 #include "vec3.h"
 
 namespace meshlift {
@@ -33,19 +34,6 @@ using vec3::at;
 using vec3::cross;
 using vec3::dot;
 using vec3::sub;
-
-/// Runs body(begin, end) over [0, n) split into `threads` contiguous ranges.
-template <typename Body>
-void parallel_for(std::size_t n, unsigned threads, Body body) {
-  if (threads <= 1 || n < 1024) {
-    body(std::size_t{0}, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] { body(n * t / threads, n * (t + 1) / threads); });
-  for (auto& th : pool) th.join();
-}
 
 /// Vertex -> neighbours and vertex -> incident faces of a triangle list (CSR), plus which
 /// neighbours are across a boundary edge.
@@ -191,7 +179,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
     auto round = [&](const std::vector<std::uint32_t>& vertices, bool smooth, double step) {
       next.assign(3 * vertices.size(), 0.0);
       next_face.assign(vertices.size(), kNone);
-      parallel_for(vertices.size(), threads, [&](std::size_t begin, std::size_t stop) {
+      parallel_blocks(vertices.size(), threads, [&](std::size_t begin, std::size_t stop) {
         for (std::size_t i = begin; i < stop; ++i) {
           const std::uint32_t v = vertices[i];
           Vec p = at(x, v);

@@ -22,6 +22,10 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
       ->check(CLI::IsMember({"loop", "none"}))
       ->capture_default_str();
+  cmd.add_option("--least-squares", options.least_squares_rounds,
+                 "rounds of least-squares fitting to the input, both ways (0: vertices stay on the input surface)")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
 }
 
 RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
@@ -29,6 +33,7 @@ RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
   o.levels = options.levels;
   o.base_vertices = options.base_vertices;
   o.fit = options.fit == "none" ? BaseFit::none : BaseFit::loop;
+  o.least_squares_rounds = options.least_squares_rounds;
   o.method = options.method == "sphere" ? RemeshMethod::sphere
              : options.method == "best" ? RemeshMethod::best
                                         : RemeshMethod::decimate;

@@ -30,6 +30,13 @@ struct MetricOptions {
 /// cap keeps two 100k-face meshes within about 1.5 s of CPU (bench/bench_metric.cpp).
 std::size_t default_sample_count(std::size_t reference_faces, std::size_t test_faces);
 
+/// `samples` points spread uniformly by area over a mesh's faces (stratified: each face gets its
+/// area's share, ±1), as xyz triples; empty if the mesh has no area. Point i depends only on
+/// (seed, i): the same for any thread count (0 = hardware concurrency). `sample_faces`, if
+/// given, receives the face of each point.
+std::vector<double> area_samples(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed,
+                                 unsigned threads = 0, std::vector<std::uint32_t>* sample_faces = nullptr);
+
 /// Distances from the points of one surface to the other surface.
 struct OneSidedDistance {
   double rms = 0;   ///< sqrt(mean of d²) over the area samples (estimates the L2 surface integral)

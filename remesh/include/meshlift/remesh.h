@@ -36,6 +36,9 @@ struct RemeshOptions {
   /// Base vertices; 0 chooses automatic_remesh_base().
   std::size_t base_vertices = 0;
   BaseFit fit = BaseFit::loop;
+  /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
+  /// 0 leaves every vertex on the input surface where the fitting stage placed it.
+  int least_squares_rounds = 4;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
   /// (the corpus's camel is one) leaves too coarse a base for the wavelets, so such a mesh is
