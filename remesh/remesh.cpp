@@ -8,8 +8,11 @@
 //   surface_fit.cpp        coarse to fine, the new vertices of each level are placed on the
 //                          input by normal shooting from the guide (or the butterfly prediction
 //                          from the level below), and folded faces are untangled;
+//   untangle.cpp           patches of folded faces are re-embedded (Tutte) and put back on
+//                          the input;
 //   least_squares_fit.cpp  the vertices move off the surface where that brings the mesh
-//                          closer to it in the least-squares sense, both ways (Hoppe 1993).
+//                          closer to it in the least-squares sense, both ways (Hoppe 1993);
+//                          then untangle.cpp once more.
 //   (geometry_image.cpp    --method sphere: the octahedral spherical geometry image instead.)
 #include "meshlift/remesh.h"
 
@@ -27,6 +30,7 @@
 #include "meshlift/metric.h"
 #include "meshlift/spherical_parametrization.h"
 #include "meshlift/surface_fit.h"
+#include "meshlift/untangle.h"
 #include "meshlift/validate.h"
 
 namespace meshlift {
@@ -67,9 +71,15 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   SurfaceFitOptions fit_options;
   fit_options.progress = [&](double f) { report(0.2 + 0.5 * f); };
   fit_to_surface(result_mesh, guide, surface, fit_options);
+  untangle(result_mesh, surface);
+  report(0.75);
   LeastSquaresFitOptions least_squares;
   least_squares.iterations = least_squares_rounds;
   fit_least_squares(result_mesh, surface, least_squares);
+  report(0.85);
+  // The least-squares solve keeps faces that face the input from turning away, but a face can
+  // still end up nearest to another part of the input: untangle once more.
+  untangle(result_mesh, surface);
   report(0.9);
 
   RemeshResult result{std::move(result_mesh)};

@@ -1,0 +1,227 @@
+// Untangling folded patches of a remesh by Tutte re-embedding on the input's tangent plane.
+// See untangle.h.
+#include "meshlift/untangle.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "meshlift/topology.h"
+#include "vec3.h"
+
+namespace meshlift {
+namespace {
+
+using Vec = vec3::Vec3;
+using vec3::at;
+using vec3::cross;
+using vec3::dot;
+using vec3::sub;
+
+Vec unit(Vec v) {
+  const double length = std::sqrt(dot(v, v));
+  if (length > 0)
+    for (double& c : v) c /= length;
+  return v;
+}
+
+}  // namespace
+
+UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options) {
+  if (options.first_rings < 1 || options.max_rings < options.first_rings || options.passes < 0)
+    throw std::invalid_argument("untangle: first_rings >= 1, max_rings >= first_rings, passes >= 0");
+  UntangleReport report;
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  const std::vector<std::uint32_t>& triangles = h.triangles(h.levels());
+  const std::uint32_t n = h.vertex_count(h.levels());
+  const std::size_t faces = triangles.size() / 3;
+  const TriangleMesh& input = surface.mesh();
+  std::vector<double>& x = mesh.positions;
+
+  // Vertex -> faces (CSR) and the mesh's own boundary vertices (they stay on the input's
+  // boundary curves, where the fitting put them).
+  std::vector<std::uint32_t> offsets(n + 1, 0), incident(triangles.size());
+  for (std::uint32_t v : triangles) ++offsets[v + 1];
+  for (std::uint32_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
+  {
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (std::size_t f = 0; f < faces; ++f)
+      for (int i = 0; i < 3; ++i) incident[fill[triangles[3 * f + i]]++] = static_cast<std::uint32_t>(f);
+  }
+  std::vector<std::uint8_t> on_boundary(n, 0);
+  {
+    const TriangleTopology topology = TriangleTopology::build(n, triangles);
+    for (std::uint32_t e = 0; e < topology.edge_count(); ++e)
+      if (topology.is_boundary_edge(e)) on_boundary[topology.edge_vertices[2 * e]] = on_boundary[topology.edge_vertices[2 * e + 1]] = 1;
+  }
+
+  auto input_normal = [&](std::uint32_t f) {
+    const std::uint32_t* t = &input.triangles[3 * std::size_t{f}];
+    const Vec a = at(input.positions, t[0]);
+    return unit(cross(sub(at(input.positions, t[1]), a), sub(at(input.positions, t[2]), a)));
+  };
+  // find_fold_overs()'s test; a face of zero area counts as folded too.
+  auto centroid = [&](std::size_t f) {
+    const std::uint32_t* t = &triangles[3 * f];
+    const Vec a = at(x, t[0]), b = at(x, t[1]), c = at(x, t[2]);
+    return Vec{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
+  };
+  auto is_folded = [&](std::size_t f) {
+    const std::uint32_t* t = &triangles[3 * f];
+    const Vec a = at(x, t[0]);
+    const Vec normal = cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a));
+    if (dot(normal, normal) == 0) return true;
+    return dot(normal, input_normal(surface.closest(centroid(f)).face)) < 0;
+  };
+  std::vector<std::uint8_t> folded(faces);
+  for (std::size_t f = 0; f < faces; ++f) folded[f] = is_folded(f);
+  report.folded_before = static_cast<std::size_t>(std::count(folded.begin(), folded.end(), 1));
+
+  std::vector<std::uint32_t> stamp(faces, 0), vertex_stamp(n, 0), local(n, kNone);
+  std::uint32_t generation = 0;
+  for (int pass = 0; pass < options.passes; ++pass) {
+    std::size_t kept_this_pass = 0;
+    std::vector<std::uint8_t> seen(faces, 0);
+    for (std::size_t seed = 0; seed < faces; ++seed) {
+      if (!folded[seed] || seen[seed]) continue;
+      // The patch: folded faces connected to `seed` through shared vertices.
+      std::vector<std::uint32_t> patch{static_cast<std::uint32_t>(seed)};
+      seen[seed] = 1;
+      for (std::size_t i = 0; i < patch.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t v = triangles[3 * std::size_t{patch[i]} + k];
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+            if (folded[incident[j]] && !seen[incident[j]]) seen[incident[j]] = 1, patch.push_back(incident[j]);
+        }
+
+      for (int rings = options.first_rings; rings <= options.max_rings; ++rings) {
+        // The region: the patch grown by `rings` rings of faces.
+        ++generation;
+        std::vector<std::uint32_t> region = patch;
+        for (std::uint32_t f : region) stamp[f] = generation;
+        for (int r = 0, begin = 0; r < rings; ++r) {
+          const int end = static_cast<int>(region.size());
+          for (int i = begin; i < end; ++i)
+            for (int k = 0; k < 3; ++k) {
+              const std::uint32_t v = triangles[3 * std::size_t{region[i]} + k];
+              for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+                if (stamp[incident[j]] != generation) stamp[incident[j]] = generation, region.push_back(incident[j]);
+            }
+          begin = end;
+        }
+        // Inner vertices: every face around them is in the region; the rest of the region's
+        // vertices form its rim and stay.
+        std::vector<std::uint32_t> vertices, inner;
+        for (std::uint32_t f : region)
+          for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = triangles[3 * std::size_t{f} + k];
+            if (vertex_stamp[v] == generation) continue;
+            vertex_stamp[v] = generation;
+            vertices.push_back(v);
+            bool all_in = !on_boundary[v];
+            for (std::uint32_t j = offsets[v]; all_in && j < offsets[v + 1]; ++j) all_in = stamp[incident[j]] == generation;
+            if (all_in) local[v] = static_cast<std::uint32_t>(inner.size()), inner.push_back(v);
+            else local[v] = kNone;
+          }
+        if (inner.empty()) continue;
+
+        // The plane: the mean input normal over the region (by the closest points of its
+        // face centroids) through the mean of its vertices.
+        Vec normal{0, 0, 0}, origin{0, 0, 0};
+        for (std::uint32_t f : region) {
+          const Vec m = input_normal(surface.closest(centroid(f)).face);
+          for (int c = 0; c < 3; ++c) normal[c] += m[c];
+        }
+        normal = unit(normal);
+        for (std::uint32_t v : vertices)
+          for (int c = 0; c < 3; ++c) origin[c] += x[3 * v + c] / static_cast<double>(vertices.size());
+        if (dot(normal, normal) == 0) break;
+
+        // Tutte's barycentric mapping in the frame (e1, e2, normal): every inner vertex at the
+        // mean of its neighbours, u and v (the plane) and the height h alike, the rim fixed.
+        // With uniform weights the system is the graph Laplacian restricted to the inner
+        // vertices: symmetric positive definite.
+        std::vector<Eigen::Triplet<double>> entries;
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 3);
+        double radius = 0;
+        for (std::uint32_t i = 0; i < inner.size(); ++i) {
+          const std::uint32_t v = inner[i];
+          std::vector<std::uint32_t> ring;
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+            for (int k = 0; k < 3; ++k) {
+              const std::uint32_t w = triangles[3 * std::size_t{incident[j]} + k];
+              if (w != v) ring.push_back(w);
+            }
+          std::sort(ring.begin(), ring.end());
+          ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+          entries.emplace_back(i, i, static_cast<double>(ring.size()));
+          for (std::uint32_t w : ring) {
+            if (local[w] != kNone) {
+              entries.emplace_back(i, local[w], -1.0);
+            } else {
+              const Vec d = sub(at(x, w), origin);
+              for (int c = 0; c < 3; ++c) rhs(i, c) += d[c];  // solved in world axes: the map is
+            }                                                  // linear, so any frame gives the same
+          }
+          const Vec d = sub(at(x, v), origin);
+          radius = std::max(radius, std::sqrt(dot(d, d)));
+        }
+        Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(inner.size()), static_cast<Eigen::Index>(inner.size()));
+        laplacian.setFromTriplets(entries.begin(), entries.end());
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+        if (solver.info() != Eigen::Success) continue;
+        const Eigen::MatrixXd mapped = solver.solve(rhs);
+
+        // Lift each inner vertex back onto the input: along the plane's normal (the nearer hit on
+        // a face facing the same way within the region's radius), or, second try, to the closest
+        // point (a patch around a thin tube has no plane, but the harmonic map shrinks it
+        // towards the axis and the closest points spread it back around in order).
+        std::vector<double> saved(3 * inner.size());
+        for (std::uint32_t i = 0; i < inner.size(); ++i)
+          for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
+        bool kept = false;
+        for (int lift = 0; lift < 2 && !kept; ++lift) {
+          for (std::uint32_t i = 0; i < inner.size(); ++i) {
+            const std::uint32_t v = inner[i];
+            const Vec p{origin[0] + mapped(i, 0), origin[1] + mapped(i, 1), origin[2] + mapped(i, 2)};
+            SurfacePoint best;
+            for (double sign : {1.0, -1.0}) {
+              if (lift == 1 || !(radius > 0)) break;
+              const SurfacePoint hit = surface.first_hit(p, {sign * normal[0], sign * normal[1], sign * normal[2]}, 2 * radius);
+              if (hit.face != kNone && dot(input_normal(hit.face), normal) > 0 && (best.face == kNone || hit.distance < best.distance))
+                best = hit;
+            }
+            if (best.face == kNone) best = surface.closest(p);
+            for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
+          }
+          // Keep the new patch only if it has fewer folded faces than the old one.
+          std::size_t before = 0, after = 0;
+          std::vector<std::uint8_t> now(region.size());
+          for (std::size_t i = 0; i < region.size(); ++i) {
+            before += folded[region[i]];
+            now[i] = is_folded(region[i]);
+            after += now[i];
+          }
+          ++report.patches_tried;
+          if (after < before) {
+            for (std::size_t i = 0; i < region.size(); ++i) folded[region[i]] = now[i];
+            ++report.patches_kept, ++kept_this_pass;
+            kept = true;
+          } else {
+            for (std::uint32_t i = 0; i < inner.size(); ++i)
+              for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = saved[3 * i + c];
+          }
+        }
+        if (kept) break;
+      }
+    }
+    if (kept_this_pass == 0) break;
+  }
+  report.folded_after = static_cast<std::size_t>(std::count(folded.begin(), folded.end(), 1));
+  return report;
+}
+
+}  // namespace meshlift
