@@ -93,13 +93,11 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
 
 }  // namespace
 
-std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels) {
-  // Measured on the corpus (docs/RESULTS.md): a remesh with as many vertices as the input stays
-  // some 10 dB short of one with 4x as many (armadillo, L = 4: 65.6 vs 77.0 dB), so the base
-  // is sized for about kDensity x the input's vertices after `levels` refinements.
-  constexpr std::size_t kDensity = 4;
-  const std::size_t refinement = std::size_t{1} << (2 * levels);
-  const std::size_t from_density = (kDensity * mesh.vertex_count() + refinement - 1) / refinement;
+std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double density) {
+  if (!(density > 0 && density <= 1024))
+    throw MeshError("density must be in (0, 1024], got " + std::to_string(density));
+  const double refinement = std::ldexp(1.0, 2 * levels);
+  const auto from_density = static_cast<std::size_t>(std::ceil(density * static_cast<double>(mesh.vertex_count()) / refinement));
   return std::max(from_density, automatic_base_vertices(mesh, levels));
 }
 
@@ -150,7 +148,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   DecimateOptions decimate_options;
   decimate_options.levels = options.levels;
   decimate_options.target_vertices =
-      options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels);
+      options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, options.density);
   RemeshResult result = remesh_by_decimation(mesh, surface, decimate_options, options.fit, options.least_squares_rounds, report);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
     // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.

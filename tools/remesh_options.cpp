@@ -19,6 +19,11 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
       ->capture_default_str();
   cmd.add_option("--base-vertices", options.base_vertices, "base mesh size; 0 chooses from the mesh and --levels")
       ->capture_default_str();
+  cmd.add_option("--density", options.density,
+                 "remesh vertices per input vertex the automatic base size aims at (4: closest remesh; 2: fewer "
+                 "bits at 55-75 dB)")
+      ->check(CLI::Range(0.01, 1024.0))
+      ->capture_default_str();
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
       ->check(CLI::IsMember({"loop", "none"}))
       ->capture_default_str();
@@ -32,6 +37,7 @@ RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
   RemeshOptions o;
   o.levels = options.levels;
   o.base_vertices = options.base_vertices;
+  o.density = options.density;
   o.fit = options.fit == "none" ? BaseFit::none : BaseFit::loop;
   o.least_squares_rounds = options.least_squares_rounds;
   o.method = options.method == "sphere" ? RemeshMethod::sphere

@@ -13,12 +13,13 @@ struct RemeshCliOptions {
   std::string method = "decimate";
   int levels = 3;
   std::size_t base_vertices = 0;
+  double density = RemeshOptions{}.density;
   std::string fit = "loop";
   int least_squares_rounds = RemeshOptions{}.least_squares_rounds;
 };
 
 /// Adds `method_flag` (--method for remesh, --remesh for encode), --levels, --base-vertices and
-/// --fit, --least-squares to `cmd`.
+/// --density, --fit, --least-squares to `cmd`.
 void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::string& method_flag);
 
 /// The library options the command-line ones stand for (no progress callback).
