@@ -94,8 +94,9 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
 }  // namespace
 
 std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double density) {
-  if (!(density > 0 && density <= 1024))
-    throw MeshError("density must be in (0, 1024], got " + std::to_string(density));
+  // Below 1 the decimator's own automatic size, ceil(V / 4^L), would take over anyway.
+  if (!(density >= 1 && density <= 1024))
+    throw MeshError("density must be in [1, 1024], got " + std::to_string(density));
   const double refinement = std::ldexp(1.0, 2 * levels);
   const auto from_density = static_cast<std::size_t>(std::ceil(density * static_cast<double>(mesh.vertex_count()) / refinement));
   return std::max(from_density, automatic_base_vertices(mesh, levels));

@@ -22,7 +22,7 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
   cmd.add_option("--density", options.density,
                  "remesh vertices per input vertex the automatic base size aims at (4: closest remesh; 2: fewer "
                  "bits at 55-75 dB)")
-      ->check(CLI::Range(0.01, 1024.0))
+      ->check(CLI::Range(1.0, 1024.0))
       ->capture_default_str();
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
       ->check(CLI::IsMember({"loop", "none"}))

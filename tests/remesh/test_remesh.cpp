@@ -110,3 +110,18 @@ TEST_CASE("Remeshing development meshes leaves no folded face and stays close", 
     }
   }
 }
+
+TEST_CASE("The automatic base size follows the density asked for", "[remesh][pipeline]") {
+  const TriangleMesh input = test::icosphere(5);  // 10,242 vertices
+  // ceil(density * V / 4^L).
+  CHECK(automatic_remesh_base(input, 3) == 641);
+  CHECK(automatic_remesh_base(input, 3, 4) == 641);
+  CHECK(automatic_remesh_base(input, 3, 2) == 321);
+  CHECK(automatic_remesh_base(input, 3, 16) == 2561);
+  CHECK(automatic_remesh_base(input, 3, 1) == 161);
+  CHECK_THROWS_AS(automatic_remesh_base(input, 3, 0.5), MeshError);
+  CHECK_THROWS_AS(automatic_remesh_base(input, 3, std::nan("")), MeshError);
+  RemeshOptions options;
+  options.density = -1;
+  CHECK_THROWS_AS(remesh(input, options), MeshError);
+}

@@ -35,7 +35,7 @@ struct RemeshOptions {
   int levels = 3;
   /// Base vertices; 0 chooses automatic_remesh_base() for `density`.
   std::size_t base_vertices = 0;
-  /// Vertices of the remesh per input vertex that the automatic base size aims at, in (0, 1024].
+  /// Vertices of the remesh per input vertex that the automatic base size aims at, in [1, 1024].
   /// 4 by default: measured on the corpus (docs/RESULTS.md), the remesh error alone is ~10 dB
   /// lower than at 1x (armadillo, L = 4: 77.0 vs 65.6 dB). For coding at 55-75 dB, 2 spends
   /// fewer bits (RESULTS: BD-rate against Draco) but caps the quality lower.
@@ -69,7 +69,7 @@ struct RemeshResult {
 
 /// The base size remesh() chooses: about `density` x the input's vertices after `levels`
 /// refinements, max(ceil(density V / 4^levels), automatic_base_vertices(mesh, levels)) (decimate.h).
-/// \throw MeshError as decimate(), or if density is not in (0, 1024].
+/// \throw MeshError as decimate(), or if density is not in [1, 1024].
 std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double density = 4);
 
 /// The semi-regular remesh of `mesh`.
