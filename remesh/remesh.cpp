@@ -104,6 +104,8 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double d
 
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
+  if (options.density != 0 && !(options.density >= 1 && options.density <= 1024))
+    throw MeshError("density must be 0 (automatic) or in [1, 1024], got " + std::to_string(options.density));
   if (options.levels < 0 || options.levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " +
                     std::to_string(options.levels));
@@ -148,9 +150,33 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   }
   DecimateOptions decimate_options;
   decimate_options.levels = options.levels;
-  decimate_options.target_vertices =
-      options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, options.density);
-  RemeshResult result = remesh_by_decimation(mesh, surface, decimate_options, options.fit, options.least_squares_rounds, report);
+  auto by_decimation = [&](double density, double from, double to) {
+    decimate_options.target_vertices =
+        options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, density);
+    RemeshResult r = remesh_by_decimation(mesh, surface, decimate_options, options.fit, options.least_squares_rounds,
+                                          [&](double f) { report(from + (to - from) * f); });
+    r.density = options.base_vertices != 0 ? 0 : density;
+    return r;
+  };
+  RemeshResult result = [&] {
+    if (options.base_vertices != 0 || options.density != 0)
+      return by_decimation(options.density != 0 ? options.density : kAutoDensities[1], 0, 1);
+    // Automatic density: the sparser remesh if it is close enough to the input and folds
+    // nowhere; else the closer of the two (turbine: 72.8 dB at 2x, 53.8 at 4x). Errors measured
+    // on 200,000 samples a side (±0.01 dB, METRIC.md).
+    MetricOptions metric;
+    metric.samples = 200'000;
+    auto psnr = [&](const RemeshResult& r) { return surface_distance(mesh, r.mesh.finest(), metric).psnr_db(); };
+    RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5);
+    const double sparse_psnr = psnr(sparse);
+    if (sparse_psnr >= options.auto_density_psnr && sparse.flipped_triangles == 0 && sparse.degenerate_triangles == 0)
+      return sparse;
+    // A decimation that stopped at or above the denser target would give the same base (cow
+    // stops at 193 vertices for both).
+    if (sparse.base_vertices >= automatic_remesh_base(mesh, options.levels, kAutoDensities[1])) return sparse;
+    RemeshResult dense = by_decimation(kAutoDensities[1], 0.5, 1);
+    return psnr(dense) >= sparse_psnr ? dense : sparse;
+  }();
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
     // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.
     const double target = result.mesh.hierarchy.vertex_count(result.mesh.hierarchy.levels());

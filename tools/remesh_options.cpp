@@ -20,9 +20,9 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
   cmd.add_option("--base-vertices", options.base_vertices, "base mesh size; 0 chooses from the mesh and --levels")
       ->capture_default_str();
   cmd.add_option("--density", options.density,
-                 "remesh vertices per input vertex the automatic base size aims at (4: closest remesh; 2: fewer "
-                 "bits at 55-75 dB)")
-      ->check(CLI::Range(1.0, 1024.0))
+                 "remesh vertices per input vertex the base size aims at, 1..1024, or auto: 2 if that remesh is "
+                 "within 75 dB PSNR of the input (fewer bits at 55-75 dB), else 4 (the closer remesh)")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(1.0, 1024.0))
       ->capture_default_str();
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
       ->check(CLI::IsMember({"loop", "none"}))
@@ -37,7 +37,7 @@ RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
   RemeshOptions o;
   o.levels = options.levels;
   o.base_vertices = options.base_vertices;
-  o.density = options.density;
+  o.density = options.density == "auto" ? 0 : std::stod(options.density);
   o.fit = options.fit == "none" ? BaseFit::none : BaseFit::loop;
   o.least_squares_rounds = options.least_squares_rounds;
   o.method = options.method == "sphere" ? RemeshMethod::sphere

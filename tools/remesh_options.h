@@ -13,7 +13,7 @@ struct RemeshCliOptions {
   std::string method = "decimate";
   int levels = 3;
   std::size_t base_vertices = 0;
-  double density = RemeshOptions{}.density;
+  std::string density = "auto";
   std::string fit = "loop";
   int least_squares_rounds = RemeshOptions{}.least_squares_rounds;
 };

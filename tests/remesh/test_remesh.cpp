@@ -96,14 +96,17 @@ TEST_CASE("Remeshing rejects what it cannot remesh with the validator's message"
 }
 
 TEST_CASE("Remeshing development meshes leaves no folded face and stays close", "[corpus][remesh][pipeline]") {
-  // Default options (L = 3, base for ~4x the input's vertices). The PSNR floors are the figures
+  // L = 3, base for ~4x the input's vertices (the table of RESULTS). The PSNR floors are the figures
   // of docs/RESULTS.md less half a decibel; camel, cow, turbine and mannequin-devil still fold
   // (RESULTS counts them) and are not here.
   const std::pair<const char*, double> meshes[] = {{"fandisk", 78.0}, {"homer", 79.0}, {"elephant", 69.5}, {"knot1", 75.5}};
   for (const auto& [name, floor_db] : meshes) {
     DYNAMIC_SECTION(name) {
       const TriangleMesh input = to_triangle_mesh(read_mesh(test::corpus_mesh_path(name)));
-      const RemeshResult result = remesh(input);
+      RemeshOptions options;
+      options.density = 4;
+      const RemeshResult result = remesh(input, options);
+      CHECK(result.density == 4);
       CHECK(result.flipped_triangles == 0);
       CHECK(result.degenerate_triangles == 0);
       CHECK(surface_distance(input, result.mesh.finest()).psnr_db() > floor_db);
@@ -124,4 +127,31 @@ TEST_CASE("The automatic base size follows the density asked for", "[remesh][pip
   RemeshOptions options;
   options.density = -1;
   CHECK_THROWS_AS(remesh(input, options), MeshError);
+  options.density = 0.5;
+  CHECK_THROWS_AS(remesh(input, options), MeshError);
+}
+
+TEST_CASE("The automatic density keeps the sparser remesh only when it is close enough", "[remesh][pipeline]") {
+  const TriangleMesh input = bumpy_sphere();
+  RemeshOptions options;
+  options.levels = 2;
+  options.recognize = false;
+  REQUIRE(options.density == 0);  // automatic by default
+  MetricOptions metric;
+  metric.samples = 200'000;
+  // A smooth surface: the 2x remesh is within the threshold, and it is what comes back.
+  options.auto_density_psnr = 60;
+  const RemeshResult sparse = remesh(input, options);
+  CHECK(sparse.density == 2);
+  CHECK(surface_distance(input, sparse.mesh.finest(), metric).psnr_db() >= 60);
+  // A threshold no 2x remesh reaches: the 4x one, identical to asking for density 4.
+  options.auto_density_psnr = 500;
+  const RemeshResult dense = remesh(input, options);
+  CHECK(dense.density == 4);
+  options.density = 4;
+  CHECK(remesh(input, options).mesh.positions == dense.mesh.positions);
+  // A base size given: no density.
+  options.density = 0;
+  options.base_vertices = 100;
+  CHECK(remesh(input, options).density == 0);
 }

@@ -35,11 +35,15 @@ struct RemeshOptions {
   int levels = 3;
   /// Base vertices; 0 chooses automatic_remesh_base() for `density`.
   std::size_t base_vertices = 0;
-  /// Vertices of the remesh per input vertex that the automatic base size aims at, in [1, 1024].
-  /// 4 by default: measured on the corpus (docs/RESULTS.md), the remesh error alone is ~10 dB
-  /// lower than at 1x (armadillo, L = 4: 77.0 vs 65.6 dB). For coding at 55-75 dB, 2 spends
-  /// fewer bits (RESULTS: BD-rate against Draco) but caps the quality lower.
-  double density = 4;
+  /// Vertices of the remesh per input vertex that the automatic base size aims at, in [1, 1024],
+  /// or 0: automatic: the sparser of kAutoDensities if its remesh reaches auto_density_psnr
+  /// against the input (metric.h) and has no folded face, else the closer of the two. Measured (docs/RESULTS.md): 4x gives the
+  /// closer remesh (about 4-9 dB above 2x where both work); 2x codes the 55-75 dB range in
+  /// fewer bits (BD-rate against Draco: armadillo -70 % instead of -61 %, bear_bis -74 % instead
+  /// of -64 %) but misses limbs on some meshes (camel 59 dB, elephant 49 dB at 2x).
+  double density = 0;
+  /// The remesh error (PSNR, dB) a 2x remesh must reach for the automatic density to keep it.
+  double auto_density_psnr = 75;
   BaseFit fit = BaseFit::loop;
   /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
   /// 0 leaves every vertex on the input surface where the fitting stage placed it.
@@ -53,8 +57,14 @@ struct RemeshOptions {
   std::function<void(double)> progress;
 };
 
+/// The densities the automatic choice tries, sparser first.
+inline constexpr double kAutoDensities[] = {2, 4};
+
 struct RemeshResult {
   SemiRegularMesh mesh;
+  /// The density the base was sized for (RemeshOptions::density, or the automatic choice); 0
+  /// when the base size was given or the input was taken over or remeshed through the sphere.
+  double density = 0;
   /// True when the input already was semi-regular and was taken over as it is.
   bool recognized = false;
   /// The remesher that made `mesh` (decimate or sphere; also when `best` chose).
