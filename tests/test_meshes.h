@@ -65,6 +65,19 @@ inline TriangleMesh icosphere(int levels) {
   return m;
 }
 
+/// The icosahedron refined `levels` times by 1:4 midpoint splits as a semi-regular mesh, then
+/// every vertex pushed onto the unit sphere: a polyhedron inscribed in the sphere, so all its
+/// chord error is inside.
+inline SemiRegularMesh sphere_refinement(int levels) {
+  SemiRegularMesh s = refine_linear(icosahedron(), levels);
+  for (std::size_t v = 0; v < s.positions.size() / 3; ++v) {
+    double* p = &s.positions[3 * v];
+    const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int k = 0; k < 3; ++k) p[k] /= n;
+  }
+  return s;
+}
+
 /// Torus (genus 1) with `rings` x `sides` quads split into triangles; all vertices valence 6.
 inline TriangleMesh torus(int rings = 8, int sides = 6, double major = 1.0, double minor = 0.35) {
   TriangleMesh m;

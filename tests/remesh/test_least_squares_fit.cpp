@@ -9,27 +9,12 @@
 
 using namespace meshlift;
 
-namespace {
-
-/// The icosahedron refined `levels` times with every vertex on the unit sphere: a semi-regular
-/// mesh whose vertices all lie on the sphere, so all its chord error is inside.
-SemiRegularMesh sphere_refinement(int levels) {
-  SemiRegularMesh s = refine_linear(test::icosahedron(), levels);
-  for (std::size_t v = 0; v < s.positions.size() / 3; ++v) {
-    double* p = &s.positions[3 * v];
-    const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    for (int c = 0; c < 3; ++c) p[c] /= len;
-  }
-  return s;
-}
-
-}  // namespace
 
 TEST_CASE("Least-squares fitting centres a polyhedron's chord error on a sphere", "[remesh][least_squares]") {
   // A 642-vertex polyhedron inscribed in the sphere against a fine sphere (163,842 vertices
   // would be slow; 40,962 is as smooth at this scale).
   const SurfaceQuery sphere(test::icosphere(6));
-  SemiRegularMesh mesh = sphere_refinement(3);
+  SemiRegularMesh mesh = test::sphere_refinement(3);
   const double before = surface_distance(sphere.mesh(), mesh.finest()).rms;
   const LeastSquaresFitReport report = fit_least_squares(mesh, sphere);
   const double after = surface_distance(sphere.mesh(), mesh.finest()).rms;
@@ -65,7 +50,7 @@ TEST_CASE("Least-squares fitting keeps a flat sheet flat", "[remesh][least_squar
 
 TEST_CASE("Least-squares fitting is the same for any thread count", "[remesh][least_squares]") {
   const SurfaceQuery sphere(test::icosphere(5));
-  SemiRegularMesh one = sphere_refinement(3), two = one;
+  SemiRegularMesh one = test::sphere_refinement(3), two = one;
   LeastSquaresFitOptions options;
   options.threads = 1;
   fit_least_squares(one, sphere, options);
@@ -76,7 +61,7 @@ TEST_CASE("Least-squares fitting is the same for any thread count", "[remesh][le
 
 TEST_CASE("Least-squares fitting rejects options out of range", "[remesh][least_squares]") {
   const SurfaceQuery sphere(test::icosphere(2));
-  SemiRegularMesh mesh = sphere_refinement(1);
+  SemiRegularMesh mesh = test::sphere_refinement(1);
   LeastSquaresFitOptions options;
   options.iterations = -1;
   CHECK_THROWS_AS(fit_least_squares(mesh, sphere, options), std::invalid_argument);

@@ -10,17 +10,6 @@ using namespace meshlift;
 
 namespace {
 
-/// The icosahedron refined 3 times with every vertex on the unit sphere (642 vertices).
-SemiRegularMesh sphere_refinement() {
-  SemiRegularMesh s = refine_linear(test::icosahedron(), 3);
-  for (std::size_t v = 0; v < s.positions.size() / 3; ++v) {
-    double* p = &s.positions[3 * v];
-    const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    for (int c = 0; c < 3; ++c) p[c] /= len;
-  }
-  return s;
-}
-
 std::size_t folds(const SemiRegularMesh& mesh, const SurfaceQuery& surface) {
   const FoldOvers f = find_fold_overs(mesh.finest(), surface);
   return f.flipped.size() + f.degenerate.size();
@@ -30,7 +19,7 @@ std::size_t folds(const SemiRegularMesh& mesh, const SurfaceQuery& surface) {
 
 TEST_CASE("Untangling unfolds pleats on a sphere and leaves the vertices on it", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(5));
-  SemiRegularMesh mesh = sphere_refinement();
+  SemiRegularMesh mesh = test::sphere_refinement(3);
   REQUIRE(folds(mesh, sphere) == 0);
   // Two pleats: a finest-level vertex pushed across its ring onto a neighbour's far side, and
   // two neighbouring vertices swapped.
@@ -60,7 +49,7 @@ TEST_CASE("Untangling unfolds pleats on a sphere and leaves the vertices on it",
 
 TEST_CASE("Untangling leaves a mesh without folds as it is", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(4));
-  SemiRegularMesh mesh = sphere_refinement();
+  SemiRegularMesh mesh = test::sphere_refinement(3);
   const std::vector<double> before = mesh.positions;
   const UntangleReport report = untangle(mesh, sphere);
   CHECK(report.folded_before == 0);
@@ -70,7 +59,7 @@ TEST_CASE("Untangling leaves a mesh without folds as it is", "[remesh][untangle]
 
 TEST_CASE("Untangling rejects options out of range", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(2));
-  SemiRegularMesh mesh = sphere_refinement();
+  SemiRegularMesh mesh = test::sphere_refinement(3);
   UntangleOptions options;
   options.first_rings = 0;
   CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
