@@ -97,7 +97,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
             if (folded[incident[j]] && !seen[incident[j]]) seen[incident[j]] = 1, patch.push_back(incident[j]);
         }
 
-      for (int rings = options.first_rings; rings <= options.max_rings; rings *= 2) {
+      for (int rings = options.first_rings; rings <= options.max_rings; rings += (rings + 1) / 2) {
         // The region: the patch grown by `rings` rings of faces.
         ++generation;
         std::vector<std::uint32_t> region = patch;

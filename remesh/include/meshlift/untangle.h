@@ -3,7 +3,7 @@
 // the plane of the input's normals there, its inner vertices re-embedded by Tutte's barycentric
 // mapping with the patch's rim fixed (Tutte 1963; Floater 1997: a convex rim gives an embedding
 // without fold-overs), and lifted back onto the input along that normal. A patch is kept only
-// if it has fewer folded faces than before; else it grows (twice the rings) and is tried again.
+// if it has fewer folded faces than before; else it grows (1, 2, 3, 5, 8 rings) and is tried again.
 #pragma once
 
 #include <cstddef>
@@ -15,9 +15,10 @@ namespace meshlift {
 
 struct UntangleOptions {
   /// Rings of faces added around a patch of folded faces at the first try (>= 1) and at most
-  /// (>= first_rings); each failed try doubles them. Measured on the corpus (L = 3, ~4x):
-  /// growing by one ring at a time up to 8 left camel 28 folded faces, cow 52, turbine 71,
-  /// mannequin-devil 70 in 2-2.5x the time of doubling, which leaves 20, 53, 88 and 67.
+  /// (>= first_rings); each failed try adds half as many again (1, 2, 3, 5, 8). Measured on the
+  /// corpus (L = 3, ~4x): one ring more per try left camel 28 folded faces, cow 52, turbine 71,
+  /// mannequin-devil 70 in 2-2.5x the time; doubling (1, 2, 4, 8) left 20, 53, 88, 67 but one
+  /// on armadillo at ~2x; this sequence leaves 27, 52, 63, 78 and none on armadillo.
   int first_rings = 1;
   int max_rings = 8;
   /// Passes over all patches (>= 0); they stop early when a pass keeps no patch.
