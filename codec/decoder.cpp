@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
-#include <optional>
 
 #include "base_mesh_coder.h"
 #include "local_frames.h"
@@ -124,8 +123,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
                                                std::to_string(options.limits.max_memory_bytes));
 
   try {
-    // Without the finest level's faces until the end (the largest array; nothing reads it before).
-    SemiRegularHierarchy h(std::move(base), header.levels, false);
+    // Without the finest level's faces until the end (the largest array; nothing reads it before)
+    // and without the stored coefficient tree (the Forest reads it off the topologies).
+    SemiRegularHierarchy h(std::move(base), header.levels, false, false);
     RangeDecoder decoder(stream.coefficients);
     zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
 
@@ -151,16 +151,15 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     const bool all_planes = decoded.complete;
     const int last_plane = decoded.last_plane;
     decoded = {};  // freed before the stencil tables are built: lower peak memory
-    std::optional<WaveletTransform> transform(std::in_place, h, WaveletOptions{header.scheme, header.mean_preserving_update});
-    if (header.local_frames) {
-      // Level by level: the details of level j + 1 are in the frames of the level-j mesh just
-      // synthesized (encoder.cpp computes them from the same values at full rate).
-      for (int j = 0; j < result.level; ++j) {
-        frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
-        transform->synthesize(values, K, j + 1, j);
-      }
-    } else {
-      transform->synthesize(values, K, result.level);
+    // Level by level, with the stencil tables of one level at a time (built just before its
+    // synthesis, freed after it: the last level's are three quarters of them, so the peak holds
+    // only those, not all). With local frames, the details of level j + 1 are in the frames of
+    // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
+    // rate).
+    const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
+    for (int j = 0; j < result.level; ++j) {
+      if (header.local_frames) frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
+      WaveletTransform(h, wavelets, j, j + 1).synthesize(values, K, j + 1, j);
     }
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).
@@ -181,7 +180,6 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     values.resize(std::size_t{n} * 3);
     values.shrink_to_fit();  // a no-op at full level without channels; else the result holds no spare room
     result.mesh.positions = std::move(values);
-    transform.reset();
     result.mesh.triangles =
         result.level == L ? std::move(h).release_finest_triangles() : h.copy_triangles(result.level);
     result.bit_plane = last_plane;

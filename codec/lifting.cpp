@@ -18,6 +18,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "meshlift/lifting.h"
 #include "stencils.h"
@@ -48,10 +49,17 @@ Scheme parse_scheme(const std::string& name) {
 }
 
 WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options)
-    : options_(options) {
+    : WaveletTransform(hierarchy, options, 0, hierarchy.levels()) {}
+
+WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int first_level,
+                                   int end_level)
+    : options_(options), first_level_(first_level), end_level_(end_level) {
+  if (first_level < 0 || first_level > end_level || end_level > hierarchy.levels())
+    throw std::invalid_argument("WaveletTransform: levels " + std::to_string(first_level) + " .. " +
+                                std::to_string(end_level) + " are not within 0 .. " + std::to_string(hierarchy.levels()));
   for (int j = 0; j <= hierarchy.levels(); ++j) vertex_counts_.push_back(hierarchy.vertex_count(j));
   steps_.resize(hierarchy.levels());
-  for (int j = 0; j < hierarchy.levels(); ++j) {
+  for (int j = first_level; j < end_level; ++j) {
     const TriangleTopology& t = hierarchy.topology(j);
     auto& steps = steps_[j];
     if (options.scheme == Scheme::loop) {
@@ -176,8 +184,16 @@ void check_channels(int channels) {
 
 }  // namespace
 
+void WaveletTransform::require_tables(int first_level, int end_level) const {
+  if (first_level < end_level && (first_level < first_level_ || end_level > end_level_))
+    throw std::logic_error("WaveletTransform: levels " + std::to_string(first_level) + " .. " + std::to_string(end_level) +
+                           " asked for, tables built for " + std::to_string(first_level_) + " .. " +
+                           std::to_string(end_level_) + " only");
+}
+
 void WaveletTransform::analyze(std::span<double> values, int channels) const {
   check_channels(channels);
+  require_tables(0, levels());
   if (values.size() < static_cast<std::size_t>(vertex_counts_.back()) * channels)
     throw std::invalid_argument("analyze: values hold fewer vertices than the finest level");
   for (int j = levels() - 1; j >= 0; --j) {
@@ -193,6 +209,7 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
   if (from_level < 0 || from_level > to_level) throw std::invalid_argument("synthesize: from_level must be in 0..to_level");
   if (values.size() < static_cast<std::size_t>(vertex_counts_[to_level]) * channels)
     throw std::invalid_argument("synthesize: values hold fewer vertices than the requested level");
+  require_tables(from_level, to_level);
   for (int j = from_level; j < to_level; ++j)
     for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels);
 }
