@@ -2,8 +2,12 @@
 // COEF chunks (bitstream/FORMAT.md §3-5). Mirrors decoder.cpp.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <new>
 
 #include "base_mesh_coder.h"
+#include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -21,18 +25,36 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// coefficient at a vertex in the middle of the level's range, synthesized to the finest level.
 /// Scaling level j's coefficients by it makes one quantization step cost the same squared error
 /// at every level.
+/// The impulses of kImpulses levels are synthesized together, one per channel: a channel's values
+/// are computed by the same operations whatever the channel count (lifting.cpp), so each norm is
+/// the bits of its own one-channel synthesis, while the tables are read once for all of them and
+/// a vertex's kImpulses values share one cache line (the buffer is aligned to it).
 std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform) {
+  constexpr std::size_t kImpulses = 8, kLine = 64;
   const int L = h.levels();
-  std::vector<double> weights(L + 1);
-  std::vector<double> impulse(h.vertex_count(L));
-  for (int j = 0; j <= L; ++j) {
-    const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
-    std::fill(impulse.begin(), impulse.end(), 0.0);
-    impulse[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
-    transform.synthesize(impulse, 1);
-    double sum = 0;
-    for (double x : impulse) sum += x * x;
-    weights[j] = std::sqrt(sum);
+  const std::size_t V = h.vertex_count(L);
+  std::vector<double> weights(static_cast<std::size_t>(L) + 1);
+  struct Free {
+    void operator()(double* p) const { std::free(p); }
+  };
+  const std::size_t bytes = V * kImpulses * sizeof(double);  // a multiple of kLine
+  const std::unique_ptr<double[], Free> impulses(static_cast<double*>(std::aligned_alloc(kLine, bytes)));
+  if (!impulses) throw std::bad_alloc();
+  advise_huge_pages(impulses.get(), bytes);
+  const std::span<double> values(impulses.get(), V * kImpulses);
+  for (int first = 0; first <= L; first += static_cast<int>(kImpulses)) {
+    const int count = std::min(static_cast<int>(kImpulses), L + 1 - first);
+    std::fill(values.begin(), values.end(), 0.0);
+    for (int c = 0; c < count; ++c) {
+      const int j = first + c;
+      const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
+      values[kImpulses * (begin + (h.vertex_count(j) - begin) / 2) + static_cast<std::size_t>(c)] = 1.0;
+    }
+    transform.synthesize(values, static_cast<int>(kImpulses));
+    double sum[kImpulses] = {};
+    for (std::size_t v = 0; v < V; ++v)
+      for (std::size_t c = 0; c < kImpulses; ++c) sum[c] += values[kImpulses * v + c] * values[kImpulses * v + c];
+    for (int c = 0; c < count; ++c) weights[static_cast<std::size_t>(first + c)] = std::sqrt(sum[c]);
   }
   return weights;
 }
@@ -142,19 +164,25 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // Quantizes the coefficients of the vertices of level j; if `reconstruction` is given, writes
   // there what the decoder will reconstruct from them at full rate.
   auto quantize_level = [&](int j, double* reconstruction) {
-    for (std::size_t i = k_stride * (j == 0 ? 0 : h.vertex_count(j - 1)); i < k_stride * h.vertex_count(j); ++i) {
-      const double step = (j == 0 ? base_step : detail_step)[i % k_stride];
-      const double scaled = std::abs(values[i]) * header.level_weights[j] / step;
-      if (scaled >= 2147483648.0)
-        throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
-                        std::to_string(L) + " levels; use fewer bits");
-      q.magnitude[i] = static_cast<std::uint32_t>(scaled);
-      q.negative[i] = values[i] < 0 && q.magnitude[i] > 0;
-      if (reconstruction != nullptr) {
-        reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(q.magnitude[i], 0, q.negative[i]), step,
-                                                 header.level_weights[j]);
+    const double weight = header.level_weights[static_cast<std::size_t>(j)];
+    const double* steps = (j == 0 ? base_step : detail_step).data();
+    bool too_fine = false;  // thrown after the loop, which then has no exit
+    for (std::size_t v = j == 0 ? 0 : h.vertex_count(j - 1); v < h.vertex_count(j); ++v)
+      for (std::size_t c = 0; c < k_stride; ++c) {
+        const std::size_t i = k_stride * v + c;
+        const double scaled = std::abs(values[i]) * weight / steps[c];
+        too_fine |= scaled >= 2147483648.0;
+        // The same floor as a plain conversion wherever that is defined (scaled < 2^31).
+        const auto magnitude = static_cast<std::uint32_t>(std::min(scaled, 2147483647.0));
+        const bool negative = values[i] < 0 && magnitude > 0;
+        q.magnitude[i] = magnitude;
+        q.negative[i] = negative;
+        if (reconstruction != nullptr)
+          reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative), steps[c], weight);
       }
-    }
+    if (too_fine)
+      throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
+                      std::to_string(L) + " levels; use fewer bits");
   };
   if (!header.local_frames) {
     for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);

@@ -10,6 +10,7 @@
 
 #include "../../codec/local_frames.h"
 #include "../../codec/zerotree_coder.h"
+#include "meshlift/codec.h"
 #include "meshlift/lifting.h"
 #include "test_meshes.h"
 
@@ -148,4 +149,16 @@ TEST_CASE("stencil tables one level at a time synthesize the same bits as all at
     }
   CHECK_THROWS_AS(WaveletTransform(h, {}, 2, 1), std::invalid_argument);
   CHECK_THROWS_AS(WaveletTransform(h, {}, 0, 4), std::invalid_argument);
+}
+
+TEST_CASE("encode refuses a precision whose magnitudes pass 2^31 - with and without local frames", "[codec]") {
+  const SemiRegularMesh mesh = refine_linear(test::icosahedron(), 2);
+  for (bool frames : {false, true}) {
+    EncodeOptions options;
+    options.local_frames = frames;
+    options.precision_bits = 40;  // base values ~ the diagonal / 2: ~2^39 steps
+    CHECK_THROWS_WITH(encode(mesh, options), Catch::Contains("too fine"));
+    options.precision_bits = 24;
+    CHECK(decode(encode(mesh, options)).status == Status::ok);
+  }
 }
