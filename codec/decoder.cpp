@@ -6,6 +6,7 @@
 #include <new>
 
 #include "base_mesh_coder.h"
+#include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -138,7 +139,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
       detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
     }
     // Insignificant coefficients are 0 (the zeros the vector starts with).
-    std::vector<double> values(std::size_t{h.vertex_count(L)} * k_stride);
+    // Huge pages where offered (large_array.h): the values are the largest array written here.
+    std::vector<double> values;
+    assign_large(values, std::size_t{h.vertex_count(L)} * k_stride);
     decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
       const auto c = static_cast<std::size_t>(x.component);
       values[k_stride * x.vertex + c] = zerotree::dequantize(x.steps(), (x.level == 0 ? base_step : detail_step)[c],
@@ -167,7 +170,8 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     std::size_t offset = zerotree::kGeometryComponents;
     for (const ChannelQuantization& c : header.channels) {
       const std::size_t m = static_cast<std::size_t>(c.components);
-      VertexChannel channel{c.components, std::vector<double>(std::size_t{n} * m)};
+      VertexChannel channel{c.components, {}};
+      assign_large(channel.values, std::size_t{n} * m);
       for (std::uint32_t v = 0; v < n; ++v)
         for (std::size_t k = 0; k < m; ++k) channel.values[m * v + k] = values[k_stride * v + offset + k] + c.center[k];
       offset += m;

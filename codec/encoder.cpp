@@ -138,7 +138,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   const int K = header.components();
   const std::size_t k_stride = static_cast<std::size_t>(K);
   const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
-  std::vector<double> values(std::size_t{V} * k_stride);
+  std::vector<double> values;  // huge pages where offered (large_array.h), as the arrays below
+  assign_large(values, std::size_t{V} * k_stride);
   for (std::uint32_t v = 0; v < V; ++v) {
     double* out = &values[k_stride * v];
     for (int k = 0; k < 3; ++k) *out++ = mesh.positions[3 * v + k] - header.center[k];
@@ -159,8 +160,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   }
   zerotree::Quantized q;
   q.components = K;
-  q.magnitude.resize(values.size());
-  q.negative.resize(values.size());
+  assign_large(q.magnitude, values.size());
+  assign_large(q.negative, values.size());
   // Quantizes the coefficients of the vertices of level j; if `reconstruction` is given, writes
   // there what the decoder will reconstruct from them at full rate.
   auto quantize_level = [&](int j, double* reconstruction) {
@@ -190,7 +191,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
     // sides rotate by the same frames bit for bit.
-    std::vector<double> decoded(values.size(), 0.0);
+    std::vector<double> decoded;
+    assign_large(decoded, values.size());
     quantize_level(0, decoded.data());
     for (int j = 0; j < L; ++j) {
       frames::rotate_details(h, j, decoded, values, K, frames::Direction::to_local);

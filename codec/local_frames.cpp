@@ -1,5 +1,7 @@
 #include "local_frames.h"
 
+#include "large_array.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -113,7 +115,8 @@ void rotate_details(const SemiRegularHierarchy& h, int level, std::span<const do
 
   // Area-weighted vertex normals of the level-j mesh (the cross product's length is twice the
   // face's area, its direction the face normal).
-  std::vector<Vec> normal(t.vertex_count, Vec{0, 0, 0});
+  std::vector<Vec> normal;
+  assign_large(normal, t.vertex_count, Vec{0, 0, 0});
   for (std::size_t f = 0; f < t.face_count(); ++f) {
     const std::uint32_t a = t.triangles[3 * f], b = t.triangles[3 * f + 1], c = t.triangles[3 * f + 2];
     const Vec p = position(a);
