@@ -154,15 +154,14 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     const bool all_planes = decoded.complete;
     const int last_plane = decoded.last_plane;
     decoded = {};  // freed before the stencil tables are built: lower peak memory
-    // Level by level, with the stencil tables of one level at a time (built just before its
-    // synthesis, freed after it: the last level's are three quarters of them, so the peak holds
-    // only those, not all). With local frames, the details of level j + 1 are in the frames of
+    // Level by level (synthesize_level: at most one level's stencil tables in memory at once, for
+    // Loop a block of them). With local frames, the details of level j + 1 are in the frames of
     // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
     // rate).
     const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
     for (int j = 0; j < result.level; ++j) {
       if (header.local_frames) frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
-      WaveletTransform(h, wavelets, j, j + 1).synthesize(values, K, j + 1, j);
+      synthesize_level(h, wavelets, j, values, K);
     }
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).

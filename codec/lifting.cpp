@@ -217,6 +217,24 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
     for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels);
 }
 
+void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                      int channels) {
+  check_channels(channels);
+  if (level < 0 || level >= hierarchy.levels())
+    throw std::invalid_argument("synthesize_level: no level " + std::to_string(level) + " below the finest");
+  if (values.size() < static_cast<std::size_t>(hierarchy.vertex_count(level + 1)) * channels)
+    throw std::invalid_argument("synthesize_level: values hold fewer vertices than the level makes");
+  if (options.scheme != Scheme::loop || level == 0) {
+    WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level);
+    return;
+  }
+  // Blocks of 16 Ki rows: 256 KiB of sources for the predict step's, which stay in L2 from their
+  // writing to their use.
+  constexpr std::uint32_t kBlockRows = 16384;
+  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.topology(level), kBlockRows,
+                                [&](const LiftingStep& step) { apply_step<true>(step, values.data(), channels); });
+}
+
 std::size_t WaveletTransform::memory_bytes() const {
   std::size_t bytes = 0;
   for (const auto& level : steps_)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../../codec/local_frames.h"
+#include "../../codec/stencils.h"
 #include "../../codec/zerotree_coder.h"
 #include "meshlift/codec.h"
 #include "meshlift/lifting.h"
@@ -160,5 +161,63 @@ TEST_CASE("encode refuses a precision whose magnitudes pass 2^31 - with and with
     CHECK_THROWS_WITH(encode(mesh, options), Catch::Contains("too fine"));
     options.precision_bits = 24;
     CHECK(decode(encode(mesh, options)).status == Status::ok);
+  }
+}
+
+namespace {
+
+/// A step's rows written out: target, scale, then (source, weight) pairs.
+std::vector<std::vector<double>> expand_rows(const LiftingStep& s) {
+  std::vector<std::vector<double>> rows;
+  const std::uint32_t* source = s.indices.data();
+  std::uint32_t target = s.first_target;
+  for (const LiftingStep::Run& run : s.runs) {
+    const LiftingStep::Pattern& p = s.patterns[run.pattern];
+    for (std::uint32_t r = 0; r < run.rows; ++r, ++target) {
+      std::vector<double> row{static_cast<double>(target), p.scale};
+      for (std::uint32_t k = 0; k < p.arity; ++k) {
+        row.push_back(*source++);
+        row.push_back(s.pattern_weights[p.first_weight + k]);
+      }
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST_CASE("Loop rows in blocks are the rows of the whole tables - and synthesize_level gives their bits", "[lifting]") {
+  // A pillow (two faces on three vertices) makes merged rows; the grid and disk boundaries and
+  // extraordinary vertices their own patterns.
+  const TriangleMesh pillow{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1}};
+  for (const TriangleMesh& base : {test::icosahedron(), test::grid(3), test::disk(5), test::torus(), pillow}) {
+    const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles), 4);
+    for (int j = 1; j < 4; ++j) {
+      const TriangleTopology &coarse = h.topology(j - 1), &fine = h.topology(j);
+      std::vector<std::vector<double>> whole = expand_rows(stencils::loop_predict_refined(coarse, fine));
+      for (const auto& row : expand_rows(stencils::loop_update_refined(coarse, fine))) whole.push_back(row);
+      for (std::uint32_t block_rows : {1u, 5u, 64u, 1u << 20}) {
+        std::vector<std::vector<double>> blocks;
+        std::size_t count = 0;
+        stencils::loop_refined_blocks(coarse, fine, block_rows, [&](const LiftingStep& s) {
+          ++count;
+          CHECK(s.indices.size() >= LiftingStep::kPadding);
+          for (std::size_t k = s.indices.size() - LiftingStep::kPadding; k < s.indices.size(); ++k) REQUIRE(s.indices[k] == 0);
+          for (const auto& row : expand_rows(s)) blocks.push_back(row);
+        });
+        INFO("level " << j << ", block rows " << block_rows);
+        REQUIRE(blocks == whole);
+        if (block_rows == 1) CHECK(count == 2 * coarse.edge_count() + coarse.face_count() + 1);  // one item per block
+      }
+    }
+    const std::vector<double> input = test::random_values(std::size_t{h.vertex_count(4)} * 3, 11);
+    for (Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop})
+      for (bool update : {false, true}) {
+        std::vector<double> tables = input, levels = input;
+        WaveletTransform(h, {scheme, update}).synthesize(tables, 3);
+        for (int j = 0; j < 4; ++j) synthesize_level(h, {scheme, update}, j, levels, 3);
+        CHECK(same_bits(tables, levels));
+      }
   }
 }
