@@ -2,9 +2,6 @@
 // COEF chunks (bitstream/FORMAT.md §3-5). Mirrors decoder.cpp.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <memory>
-#include <new>
 
 #include "base_mesh_coder.h"
 #include "large_array.h"
@@ -25,36 +22,29 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// coefficient at a vertex in the middle of the level's range, synthesized to the finest level.
 /// Scaling level j's coefficients by it makes one quantization step cost the same squared error
 /// at every level.
-/// The impulses of kImpulses levels are synthesized together, one per channel: a channel's values
-/// are computed by the same operations whatever the channel count (lifting.cpp), so each norm is
-/// the bits of its own one-channel synthesis, while the tables are read once for all of them and
-/// a vertex's kImpulses values share one cache line (the buffer is aligned to it).
-std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform) {
-  constexpr std::size_t kImpulses = 8, kLine = 64;
+/// The impulses of `channels` levels at a time are synthesized together, one per channel, in
+/// `buffer` (vertex_count(L) * channels doubles, overwritten): a channel's values are computed by
+/// the same operations whatever the channel count (lifting.cpp), so each norm has the bits of its
+/// own one-channel synthesis, while the tables and a vertex's values are read once for all.
+std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform,
+                                  std::span<double> buffer, int channels) {
   const int L = h.levels();
-  const std::size_t V = h.vertex_count(L);
+  const std::size_t V = h.vertex_count(L), k = static_cast<std::size_t>(channels);
+  const std::span<double> values = buffer.first(V * k);
   std::vector<double> weights(static_cast<std::size_t>(L) + 1);
-  struct Free {
-    void operator()(double* p) const { std::free(p); }
-  };
-  const std::size_t bytes = V * kImpulses * sizeof(double);  // a multiple of kLine
-  const std::unique_ptr<double[], Free> impulses(static_cast<double*>(std::aligned_alloc(kLine, bytes)));
-  if (!impulses) throw std::bad_alloc();
-  advise_huge_pages(impulses.get(), bytes);
-  const std::span<double> values(impulses.get(), V * kImpulses);
-  for (int first = 0; first <= L; first += static_cast<int>(kImpulses)) {
-    const int count = std::min(static_cast<int>(kImpulses), L + 1 - first);
+  for (int first = 0; first <= L; first += channels) {
+    const int count = std::min(channels, L + 1 - first);
     std::fill(values.begin(), values.end(), 0.0);
     for (int c = 0; c < count; ++c) {
       const int j = first + c;
       const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
-      values[kImpulses * (begin + (h.vertex_count(j) - begin) / 2) + static_cast<std::size_t>(c)] = 1.0;
+      values[k * (begin + (h.vertex_count(j) - begin) / 2) + static_cast<std::size_t>(c)] = 1.0;
     }
-    transform.synthesize(values, static_cast<int>(kImpulses));
-    double sum[kImpulses] = {};
+    transform.synthesize(values, channels);
+    std::vector<double> sum(k, 0.0);
     for (std::size_t v = 0; v < V; ++v)
-      for (std::size_t c = 0; c < kImpulses; ++c) sum[c] += values[kImpulses * v + c] * values[kImpulses * v + c];
-    for (int c = 0; c < count; ++c) weights[static_cast<std::size_t>(first + c)] = std::sqrt(sum[c]);
+      for (std::size_t c = 0; c < k; ++c) sum[c] += values[k * v + c] * values[k * v + c];
+    for (int c = 0; c < count; ++c) weights[static_cast<std::size_t>(first + c)] = std::sqrt(sum[static_cast<std::size_t>(c)]);
   }
   return weights;
 }
@@ -149,7 +139,11 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     }
   }
   transform.analyze(values, K);
-  header.level_weights = level_weights(h, transform);
+  // The closed loop's reconstruction (local frames; zeroed again before use) or a scratch array
+  // of the same size holds the level weights' impulse responses, K at a time.
+  std::vector<double> decoded;
+  assign_large(decoded, values.size());
+  header.level_weights = level_weights(h, transform, decoded, K);
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
@@ -186,13 +180,13 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
                       std::to_string(L) + " levels; use fewer bits");
   };
   if (!header.local_frames) {
+    decoded = std::vector<double>();
     for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
   } else {
     // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
     // sides rotate by the same frames bit for bit.
-    std::vector<double> decoded;
-    assign_large(decoded, values.size());
+    std::fill(decoded.begin(), decoded.end(), 0.0);
     quantize_level(0, decoded.data());
     for (int j = 0; j < L; ++j) {
       frames::rotate_details(h, j, decoded, values, K, frames::Direction::to_local);

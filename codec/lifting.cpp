@@ -169,14 +169,11 @@ void apply_step(const LiftingStep& s, double* x, int channels) {
 
 template <bool Synthesis>
 void apply_step(const LiftingStep& s, double* x, int channels) {
-  // Positions (3), single channels (1) and the encoder's impulse responses, 8 at a time (8), get
-  // unrolled loops.
+  // Positions (3) and single channels (1) get unrolled loops.
   if (channels == 3)
     apply_step<Synthesis, 3>(s, x, 3);
   else if (channels == 1)
     apply_step<Synthesis, 1>(s, x, 1);
-  else if (channels == 8)
-    apply_step<Synthesis, 8>(s, x, 8);
   else
     apply_step<Synthesis, 0>(s, x, channels);
 }
