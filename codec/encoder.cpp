@@ -139,8 +139,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     }
   }
   transform.analyze(values, K);
-  // The closed loop's reconstruction (local frames; zeroed again before use) or a scratch array
-  // of the same size holds the level weights' impulse responses, K at a time.
+  // The closed loop's reconstruction (local frames; each value written again before it is read)
+  // or a scratch array of the same size holds the level weights' impulse responses, K at a time.
   std::vector<double> decoded;
   assign_large(decoded, values.size());
   header.level_weights = level_weights(h, transform, decoded, K);
@@ -156,28 +156,27 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   q.components = K;
   assign_large(q.magnitude, values.size());
   assign_large(q.negative, values.size());
-  // Quantizes the coefficients of the vertices of level j; if `reconstruction` is given, writes
-  // there what the decoder will reconstruct from them at full rate.
-  auto quantize_level = [&](int j, double* reconstruction) {
+  bool too_fine = false;  // thrown after the loops below, which then have no exit
+  // Quantizes the coefficients of vertex v of level j; if `reconstruction` is given, writes there
+  // what the decoder will reconstruct from them at full rate.
+  auto quantize = [&](int j, std::size_t v, double* reconstruction) {
     const double weight = header.level_weights[static_cast<std::size_t>(j)];
     const double* steps = (j == 0 ? base_step : detail_step).data();
-    bool too_fine = false;  // thrown after the loop, which then has no exit
-    for (std::size_t v = j == 0 ? 0 : h.vertex_count(j - 1); v < h.vertex_count(j); ++v)
-      for (std::size_t c = 0; c < k_stride; ++c) {
-        const std::size_t i = k_stride * v + c;
-        const double scaled = std::abs(values[i]) * weight / steps[c];
-        too_fine |= scaled >= 2147483648.0;
-        // The same floor as a plain conversion wherever that is defined (scaled < 2^31).
-        const auto magnitude = static_cast<std::uint32_t>(std::min(scaled, 2147483647.0));
-        const bool negative = values[i] < 0 && magnitude > 0;
-        q.magnitude[i] = magnitude;
-        q.negative[i] = negative;
-        if (reconstruction != nullptr)
-          reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative), steps[c], weight);
-      }
-    if (too_fine)
-      throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
-                      std::to_string(L) + " levels; use fewer bits");
+    for (std::size_t c = 0; c < k_stride; ++c) {
+      const std::size_t i = k_stride * v + c;
+      const double scaled = std::abs(values[i]) * weight / steps[c];
+      too_fine |= scaled >= 2147483648.0;
+      // The same floor as a plain conversion wherever that is defined (scaled < 2^31).
+      const auto magnitude = static_cast<std::uint32_t>(std::min(scaled, 2147483647.0));
+      const bool negative = values[i] < 0 && magnitude > 0;
+      q.magnitude[i] = magnitude;
+      q.negative[i] = negative;
+      if (reconstruction != nullptr)
+        reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative), steps[c], weight);
+    }
+  };
+  auto quantize_level = [&](int j, double* reconstruction) {
+    for (std::size_t v = j == 0 ? 0 : h.vertex_count(j - 1); v < h.vertex_count(j); ++v) quantize(j, v, reconstruction);
   };
   if (!header.local_frames) {
     decoded = std::vector<double>();
@@ -185,16 +184,27 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   } else {
     // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
-    // sides rotate by the same frames bit for bit.
-    std::fill(decoded.begin(), decoded.end(), 0.0);
+    // sides rotate by the same frames bit for bit. Every value of `decoded` a synthesis reads has
+    // been written by then (the base, then each level's odd vertices before its synthesis).
     quantize_level(0, decoded.data());
     for (int j = 0; j < L; ++j) {
-      frames::rotate_details(h, j, decoded, values, K, frames::Direction::to_local);
-      quantize_level(j + 1, decoded.data());
-      frames::rotate_details(h, j, decoded, decoded, K, frames::Direction::to_global);
+      // The level's frames computed once for both rotations: each odd vertex's detail into its
+      // frame, quantized, its reconstruction back (vertex by vertex, the same operations as
+      // three passes over the level: no vertex reads another's values here).
+      frames::for_each_frame_block(h, j, decoded, K, [&](const frames::FrameBlock& block) {
+        for (std::uint32_t i = 0; i < block.count; ++i) {
+          const std::size_t v = h.odd_vertex(j, block.first_edge + i);
+          block.rotate(i, &values[k_stride * v], frames::Direction::to_local);
+          quantize(j + 1, v, decoded.data());
+          block.rotate(i, &decoded[k_stride * v], frames::Direction::to_global);
+        }
+      });
       transform.synthesize(decoded, K, j + 1, j);
     }
   }
+  if (too_fine)
+    throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
+                    std::to_string(L) + " levels; use fewer bits");
   header.top_plane = zerotree::top_plane(q);
 
   RangeEncoder coefficient_encoder;
