@@ -120,6 +120,7 @@ int main(int argc, char** argv) {
 
   const std::size_t two_bpv = static_cast<std::size_t>(2 * V / 8);
   Timing whole_file;
+  std::string output_hashes;
   for (std::size_t budget : {two_bpv, file.size()}) {
     DecodeOptions o;
     o.max_bytes = budget;
@@ -128,7 +129,18 @@ int main(int argc, char** argv) {
     const std::string what = "decode " + std::to_string(8.0 * r.bytes_used / V).substr(0, 4) + " bpv";
     print_timing(what.c_str(), t, V, "bit plane " + std::to_string(r.bit_plane));
     if (budget == file.size()) whole_file = t;
+    // FNV-1a of the decoded positions' and faces' bytes: a speed change must leave them alone.
+    std::uint64_t hash = 14695981039346656037ull;
+    auto mix = [&hash](const void* data, std::size_t bytes) {
+      for (std::size_t i = 0; i < bytes; ++i) hash = (hash ^ static_cast<const unsigned char*>(data)[i]) * 1099511628211ull;
+    };
+    mix(r.mesh.positions.data(), r.mesh.positions.size() * sizeof(double));
+    mix(r.mesh.triangles.data(), r.mesh.triangles.size() * sizeof(std::uint32_t));
+    char line[96];
+    std::snprintf(line, sizeof line, "  %-22s %016llx\n", (what + " hash").c_str(), static_cast<unsigned long long>(hash));
+    output_hashes += line;
   }
+  std::printf("decoded output (positions and faces, FNV-1a):\n%s", output_hashes.c_str());
 
   // The stages of a decode (and analysis, the encoder's counterpart of synthesis), timed alone.
   std::printf("stages:\n");
@@ -144,6 +156,10 @@ int main(int argc, char** argv) {
   std::vector<std::uint32_t> triangles;
   const Timing triangles_time = best_of(runs, [&] { triangles = h->copy_triangles(levels); });
   triangles = {};
+  const Timing decoder_hierarchy_time = best_of(runs, [&] {
+    h.reset();
+    h.emplace(mesh.hierarchy.topology(0), levels, false, false);
+  });
   h.reset();
   h.emplace(mesh.hierarchy.topology(0), levels);
   std::optional<WaveletTransform> transform;
@@ -163,6 +179,7 @@ int main(int argc, char** argv) {
   print_timing("hierarchy", hierarchy_time, V);
   print_timing("  without finest faces", lean_hierarchy_time, V, "(SemiRegularHierarchy(base, L, false): what a decoder");
   print_timing("  + copy_triangles(L)", triangles_time, V, "could build, making the output's faces at its end)");
+  print_timing("  and without the tree", decoder_hierarchy_time, V, "(SemiRegularHierarchy(base, L, false, false): the decoder's)");
   print_timing("stencil tables", tables_time, V);
   print_timing("synthesis", synthesis_time, V);
   print_timing("analysis", analysis_time, V);
@@ -254,6 +271,19 @@ int main(int argc, char** argv) {
   std::printf("  geometry path of a decode (hierarchy without finest faces, tables, synthesis of the values,\n"
               "  tables freed, release_finest_triangles()): peak %.0f bytes per vertex, %.3f s user, %.3f s sys\n",
               path_peak / V, path_time.user, path_time.system);
+  // The same as the decoder runs it now: no stored tree, synthesize_level() (Loop rows a block at
+  // a time, no tables kept).
+  const double level_path_peak = peak_bytes_added([&] {
+    path_time = best_of(1, [&] {
+      SemiRegularHierarchy lean(mesh.hierarchy.topology(0), levels, false, false);
+      std::vector<double> positions = mesh.positions;
+      for (int j = 0; j < levels; ++j) synthesize_level(lean, WaveletOptions{Scheme::loop, false}, j, positions);
+      TriangleMesh out{std::move(positions), std::move(lean).release_finest_triangles()};
+    });
+  });
+  std::printf("  the decoder's geometry path (no tree, synthesize_level() per level): peak %.0f bytes per vertex,\n"
+              "  %.3f s user, %.3f s sys\n",
+              level_path_peak / V, path_time.user, path_time.system);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("  whole bench (encoder, decoder, test mesh): peak %.0f MiB, %.0f bytes per vertex\n",

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
-#include <optional>
 
 #include "base_mesh_coder.h"
+#include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -124,8 +124,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
                                                std::to_string(options.limits.max_memory_bytes));
 
   try {
-    // Without the finest level's faces until the end (the largest array; nothing reads it before).
-    SemiRegularHierarchy h(std::move(base), header.levels, false);
+    // Without the finest level's faces until the end (the largest array; nothing reads it before)
+    // and without the stored coefficient tree (the Forest reads it off the topologies).
+    SemiRegularHierarchy h(std::move(base), header.levels, false, false);
     RangeDecoder decoder(stream.coefficients);
     zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
 
@@ -138,7 +139,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
       detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
     }
     // Insignificant coefficients are 0 (the zeros the vector starts with).
-    std::vector<double> values(std::size_t{h.vertex_count(L)} * k_stride);
+    // Huge pages where offered (large_array.h): the values are the largest array written here.
+    std::vector<double> values;
+    assign_large(values, std::size_t{h.vertex_count(L)} * k_stride);
     decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
       const auto c = static_cast<std::size_t>(x.component);
       values[k_stride * x.vertex + c] = zerotree::dequantize(x.steps(), (x.level == 0 ? base_step : detail_step)[c],
@@ -151,16 +154,14 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     const bool all_planes = decoded.complete;
     const int last_plane = decoded.last_plane;
     decoded = {};  // freed before the stencil tables are built: lower peak memory
-    std::optional<WaveletTransform> transform(std::in_place, h, WaveletOptions{header.scheme, header.mean_preserving_update});
-    if (header.local_frames) {
-      // Level by level: the details of level j + 1 are in the frames of the level-j mesh just
-      // synthesized (encoder.cpp computes them from the same values at full rate).
-      for (int j = 0; j < result.level; ++j) {
-        frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
-        transform->synthesize(values, K, j + 1, j);
-      }
-    } else {
-      transform->synthesize(values, K, result.level);
+    // Level by level (synthesize_level: at most one level's stencil tables in memory at once, for
+    // Loop a block of them). With local frames, the details of level j + 1 are in the frames of
+    // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
+    // rate).
+    const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
+    for (int j = 0; j < result.level; ++j) {
+      if (header.local_frames) frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
+      synthesize_level(h, wavelets, j, values, K);
     }
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).
@@ -168,7 +169,8 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     std::size_t offset = zerotree::kGeometryComponents;
     for (const ChannelQuantization& c : header.channels) {
       const std::size_t m = static_cast<std::size_t>(c.components);
-      VertexChannel channel{c.components, std::vector<double>(std::size_t{n} * m)};
+      VertexChannel channel{c.components, {}};
+      assign_large(channel.values, std::size_t{n} * m);
       for (std::uint32_t v = 0; v < n; ++v)
         for (std::size_t k = 0; k < m; ++k) channel.values[m * v + k] = values[k_stride * v + offset + k] + c.center[k];
       offset += m;
@@ -181,7 +183,6 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     values.resize(std::size_t{n} * 3);
     values.shrink_to_fit();  // a no-op at full level without channels; else the result holds no spare room
     result.mesh.positions = std::move(values);
-    transform.reset();
     result.mesh.triangles =
         result.level == L ? std::move(h).release_finest_triangles() : h.copy_triangles(result.level);
     result.bit_plane = last_plane;

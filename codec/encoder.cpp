@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base_mesh_coder.h"
+#include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -21,18 +22,29 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// coefficient at a vertex in the middle of the level's range, synthesized to the finest level.
 /// Scaling level j's coefficients by it makes one quantization step cost the same squared error
 /// at every level.
-std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform) {
+/// The impulses of `channels` levels at a time are synthesized together, one per channel, in
+/// `buffer` (vertex_count(L) * channels doubles, overwritten): a channel's values are computed by
+/// the same operations whatever the channel count (lifting.cpp), so each norm has the bits of its
+/// own one-channel synthesis, while the tables and a vertex's values are read once for all.
+std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform,
+                                  std::span<double> buffer, int channels) {
   const int L = h.levels();
-  std::vector<double> weights(L + 1);
-  std::vector<double> impulse(h.vertex_count(L));
-  for (int j = 0; j <= L; ++j) {
-    const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
-    std::fill(impulse.begin(), impulse.end(), 0.0);
-    impulse[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
-    transform.synthesize(impulse, 1);
-    double sum = 0;
-    for (double x : impulse) sum += x * x;
-    weights[j] = std::sqrt(sum);
+  const std::size_t V = h.vertex_count(L), k = static_cast<std::size_t>(channels);
+  const std::span<double> values = buffer.first(V * k);
+  std::vector<double> weights(static_cast<std::size_t>(L) + 1);
+  for (int first = 0; first <= L; first += channels) {
+    const int count = std::min(channels, L + 1 - first);
+    std::fill(values.begin(), values.end(), 0.0);
+    for (int c = 0; c < count; ++c) {
+      const int j = first + c;
+      const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
+      values[k * (begin + (h.vertex_count(j) - begin) / 2) + static_cast<std::size_t>(c)] = 1.0;
+    }
+    transform.synthesize(values, channels);
+    std::vector<double> sum(k, 0.0);
+    for (std::size_t v = 0; v < V; ++v)
+      for (std::size_t c = 0; c < k; ++c) sum[c] += values[k * v + c] * values[k * v + c];
+    for (int c = 0; c < count; ++c) weights[static_cast<std::size_t>(first + c)] = std::sqrt(sum[static_cast<std::size_t>(c)]);
   }
   return weights;
 }
@@ -116,7 +128,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   const int K = header.components();
   const std::size_t k_stride = static_cast<std::size_t>(K);
   const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
-  std::vector<double> values(std::size_t{V} * k_stride);
+  std::vector<double> values;  // huge pages where offered (large_array.h), as the arrays below
+  assign_large(values, std::size_t{V} * k_stride);
   for (std::uint32_t v = 0; v < V; ++v) {
     double* out = &values[k_stride * v];
     for (int k = 0; k < 3; ++k) *out++ = mesh.positions[3 * v + k] - header.center[k];
@@ -126,7 +139,11 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     }
   }
   transform.analyze(values, K);
-  header.level_weights = level_weights(h, transform);
+  // The closed loop's reconstruction (local frames; each value written again before it is read)
+  // or a scratch array of the same size holds the level weights' impulse responses, K at a time.
+  std::vector<double> decoded;
+  assign_large(decoded, values.size());
+  header.level_weights = level_weights(h, transform, decoded, K);
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
@@ -137,40 +154,57 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   }
   zerotree::Quantized q;
   q.components = K;
-  q.magnitude.resize(values.size());
-  q.negative.resize(values.size());
-  // Quantizes the coefficients of the vertices of level j; if `reconstruction` is given, writes
-  // there what the decoder will reconstruct from them at full rate.
-  auto quantize_level = [&](int j, double* reconstruction) {
-    for (std::size_t i = k_stride * (j == 0 ? 0 : h.vertex_count(j - 1)); i < k_stride * h.vertex_count(j); ++i) {
-      const double step = (j == 0 ? base_step : detail_step)[i % k_stride];
-      const double scaled = std::abs(values[i]) * header.level_weights[j] / step;
-      if (scaled >= 2147483648.0)
-        throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
-                        std::to_string(L) + " levels; use fewer bits");
-      q.magnitude[i] = static_cast<std::uint32_t>(scaled);
-      q.negative[i] = values[i] < 0 && q.magnitude[i] > 0;
-      if (reconstruction != nullptr) {
-        reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(q.magnitude[i], 0, q.negative[i]), step,
-                                                 header.level_weights[j]);
-      }
+  assign_large(q.magnitude, values.size());
+  assign_large(q.negative, values.size());
+  bool too_fine = false;  // thrown after the loops below, which then have no exit
+  // Quantizes the coefficients of vertex v of level j; if `reconstruction` is given, writes there
+  // what the decoder will reconstruct from them at full rate.
+  auto quantize = [&](int j, std::size_t v, double* reconstruction) {
+    const double weight = header.level_weights[static_cast<std::size_t>(j)];
+    const double* steps = (j == 0 ? base_step : detail_step).data();
+    for (std::size_t c = 0; c < k_stride; ++c) {
+      const std::size_t i = k_stride * v + c;
+      const double scaled = std::abs(values[i]) * weight / steps[c];
+      too_fine |= scaled >= 2147483648.0;
+      // The same floor as a plain conversion wherever that is defined (scaled < 2^31).
+      const auto magnitude = static_cast<std::uint32_t>(std::min(scaled, 2147483647.0));
+      const bool negative = values[i] < 0 && magnitude > 0;
+      q.magnitude[i] = magnitude;
+      q.negative[i] = negative;
+      if (reconstruction != nullptr)
+        reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative), steps[c], weight);
     }
   };
+  auto quantize_level = [&](int j, double* reconstruction) {
+    for (std::size_t v = j == 0 ? 0 : h.vertex_count(j - 1); v < h.vertex_count(j); ++v) quantize(j, v, reconstruction);
+  };
   if (!header.local_frames) {
+    decoded = std::vector<double>();
     for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
   } else {
     // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
-    // sides rotate by the same frames bit for bit.
-    std::vector<double> decoded(values.size(), 0.0);
+    // sides rotate by the same frames bit for bit. Every value of `decoded` a synthesis reads has
+    // been written by then (the base, then each level's odd vertices before its synthesis).
     quantize_level(0, decoded.data());
     for (int j = 0; j < L; ++j) {
-      frames::rotate_details(h, j, decoded, values, K, frames::Direction::to_local);
-      quantize_level(j + 1, decoded.data());
-      frames::rotate_details(h, j, decoded, decoded, K, frames::Direction::to_global);
+      // The level's frames computed once for both rotations: each odd vertex's detail into its
+      // frame, quantized, its reconstruction back (vertex by vertex, the same operations as
+      // three passes over the level: no vertex reads another's values here).
+      frames::for_each_frame_block(h, j, decoded, K, [&](const frames::FrameBlock& block) {
+        for (std::uint32_t i = 0; i < block.count; ++i) {
+          const std::size_t v = h.odd_vertex(j, block.first_edge + i);
+          block.rotate(i, &values[k_stride * v], frames::Direction::to_local);
+          quantize(j + 1, v, decoded.data());
+          block.rotate(i, &decoded[k_stride * v], frames::Direction::to_global);
+        }
+      });
       transform.synthesize(decoded, K, j + 1, j);
     }
   }
+  if (too_fine)
+    throw MeshError("encode: precision_bits " + std::to_string(options.precision_bits) + " is too fine for " +
+                    std::to_string(L) + " levels; use fewer bits");
   header.top_plane = zerotree::top_plane(q);
 
   RangeEncoder coefficient_encoder;

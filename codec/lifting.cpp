@@ -18,6 +18,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "meshlift/lifting.h"
 #include "stencils.h"
@@ -48,10 +49,17 @@ Scheme parse_scheme(const std::string& name) {
 }
 
 WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options)
-    : options_(options) {
+    : WaveletTransform(hierarchy, options, 0, hierarchy.levels()) {}
+
+WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int first_level,
+                                   int end_level)
+    : options_(options), first_level_(first_level), end_level_(end_level) {
+  if (first_level < 0 || first_level > end_level || end_level > hierarchy.levels())
+    throw std::invalid_argument("WaveletTransform: levels " + std::to_string(first_level) + " .. " +
+                                std::to_string(end_level) + " are not within 0 .. " + std::to_string(hierarchy.levels()));
   for (int j = 0; j <= hierarchy.levels(); ++j) vertex_counts_.push_back(hierarchy.vertex_count(j));
   steps_.resize(hierarchy.levels());
-  for (int j = 0; j < hierarchy.levels(); ++j) {
+  for (int j = first_level; j < end_level; ++j) {
     const TriangleTopology& t = hierarchy.topology(j);
     auto& steps = steps_[j];
     if (options.scheme == Scheme::loop) {
@@ -161,7 +169,7 @@ void apply_step(const LiftingStep& s, double* x, int channels) {
 
 template <bool Synthesis>
 void apply_step(const LiftingStep& s, double* x, int channels) {
-  // Positions (3) and the encoder's single-channel impulse responses (1) get unrolled loops.
+  // Positions (3) and single channels (1) get unrolled loops.
   if (channels == 3)
     apply_step<Synthesis, 3>(s, x, 3);
   else if (channels == 1)
@@ -176,8 +184,16 @@ void check_channels(int channels) {
 
 }  // namespace
 
+void WaveletTransform::require_tables(int first_level, int end_level) const {
+  if (first_level < end_level && (first_level < first_level_ || end_level > end_level_))
+    throw std::logic_error("WaveletTransform: levels " + std::to_string(first_level) + " .. " + std::to_string(end_level) +
+                           " asked for, tables built for " + std::to_string(first_level_) + " .. " +
+                           std::to_string(end_level_) + " only");
+}
+
 void WaveletTransform::analyze(std::span<double> values, int channels) const {
   check_channels(channels);
+  require_tables(0, levels());
   if (values.size() < static_cast<std::size_t>(vertex_counts_.back()) * channels)
     throw std::invalid_argument("analyze: values hold fewer vertices than the finest level");
   for (int j = levels() - 1; j >= 0; --j) {
@@ -193,8 +209,27 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
   if (from_level < 0 || from_level > to_level) throw std::invalid_argument("synthesize: from_level must be in 0..to_level");
   if (values.size() < static_cast<std::size_t>(vertex_counts_[to_level]) * channels)
     throw std::invalid_argument("synthesize: values hold fewer vertices than the requested level");
+  require_tables(from_level, to_level);
   for (int j = from_level; j < to_level; ++j)
     for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels);
+}
+
+void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                      int channels) {
+  check_channels(channels);
+  if (level < 0 || level >= hierarchy.levels())
+    throw std::invalid_argument("synthesize_level: no level " + std::to_string(level) + " below the finest");
+  if (values.size() < static_cast<std::size_t>(hierarchy.vertex_count(level + 1)) * channels)
+    throw std::invalid_argument("synthesize_level: values hold fewer vertices than the level makes");
+  if (options.scheme != Scheme::loop || level == 0) {
+    WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level);
+    return;
+  }
+  // Blocks of 16 Ki rows: 256 KiB of sources for the predict step's, which stay in L2 from their
+  // writing to their use.
+  constexpr std::uint32_t kBlockRows = 16384;
+  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.topology(level), kBlockRows,
+                                [&](const LiftingStep& step) { apply_step<true>(step, values.data(), channels); });
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

@@ -1,7 +1,15 @@
 #include "local_frames.h"
 
+#include "large_array.h"
+
+#include <algorithm>
 #include <cmath>
 #include <vector>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define MESHLIFT_FRAMES_AVX 1
+#endif
 
 namespace meshlift::frames {
 namespace {
@@ -15,17 +23,95 @@ Vec operator*(double s, Vec a) { return {s * a.x, s * a.y, s * a.z}; }
 double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 Vec cross(Vec a, Vec b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 
+/// Edges whose frames are computed together: the frame of one edge is a chain of dependent
+/// square roots and divisions (~80 cycles of latency); a block of independent edges, laid out
+/// component by component, keeps the divider busy instead, four edges per instruction with AVX
+/// (two with SSE2, which every x86-64 has).
+constexpr std::uint32_t kBlock = FrameBlock::kCapacity;
+constexpr std::uint32_t kLanes = 4;
+
+/// A block's inputs besides n = N_a + N_b (in FrameBlock::nx..nz): the edge p_b - p_a; and the
+/// lengths that decide the degenerate cases.
+struct Scratch {
+  alignas(32) double ex[kBlock], ey[kBlock], ez[kBlock];
+  alignas(32) double length[kBlock], t1_length[kBlock], edge_length[kBlock];
+};
+
+// One block's frames of the regular case, component by component: n normalized, t1, t2, and the
+// lengths. Every value is computed by the same IEEE operations, in the same order, as the scalar
+// formulas of FORMAT.md §3: packed square roots and divisions round exactly as scalar ones (no
+// FMA: each product is rounded before its sum), so the bits are those of an edge-by-edge loop.
+// Entries [0, count) rounded up to a multiple of kLanes (the spare ones are not used).
+#if defined(MESHLIFT_FRAMES_AVX)
+#define MESHLIFT_FRAMES_BLOCK(W, Set, Load, Store, Add, Sub, Mul, Div, Sqrt)                                  \
+  for (std::uint32_t i = 0; i < count; i += W) {                                                             \
+    /* length = |n|; n = (1 / length) n */                                                                   \
+    auto x = Load(b.nx + i), y = Load(b.ny + i), z = Load(b.nz + i);                                         \
+    const auto l = Sqrt(Add(Add(Mul(x, x), Mul(y, y)), Mul(z, z)));                                         \
+    const auto inverse = Div(Set(1.0), l);                                                                   \
+    x = Mul(inverse, x), y = Mul(inverse, y), z = Mul(inverse, z);                                           \
+    /* t1 = edge - (edge . n) n */                                                                           \
+    const auto a = Load(s.ex + i), c = Load(s.ey + i), e = Load(s.ez + i);                                   \
+    const auto along = Add(Add(Mul(a, x), Mul(c, y)), Mul(e, z));                                           \
+    auto u = Sub(a, Mul(along, x)), v = Sub(c, Mul(along, y)), w = Sub(e, Mul(along, z));                    \
+    const auto tl = Sqrt(Add(Add(Mul(u, u), Mul(v, v)), Mul(w, w)));                                        \
+    const auto el = Sqrt(Add(Add(Mul(a, a), Mul(c, c)), Mul(e, e)));                                        \
+    /* t1 = (1 / |t1|) t1; t2 = n x t1 */                                                                    \
+    const auto inverse_t = Div(Set(1.0), tl);                                                                \
+    u = Mul(inverse_t, u), v = Mul(inverse_t, v), w = Mul(inverse_t, w);                                     \
+    Store(b.nx + i, x), Store(b.ny + i, y), Store(b.nz + i, z);                                              \
+    Store(b.t1x + i, u), Store(b.t1y + i, v), Store(b.t1z + i, w);                                           \
+    Store(b.t2x + i, Sub(Mul(y, w), Mul(z, v)));                                                             \
+    Store(b.t2y + i, Sub(Mul(z, u), Mul(x, w)));                                                             \
+    Store(b.t2z + i, Sub(Mul(x, v), Mul(y, u)));                                                             \
+    Store(s.length + i, l), Store(s.t1_length + i, tl), Store(s.edge_length + i, Mul(Set(1e-12), el));       \
+  }
+
+__attribute__((target("avx"))) void compute_avx(FrameBlock& b, Scratch& s, std::uint32_t count) {
+  MESHLIFT_FRAMES_BLOCK(4, _mm256_set1_pd, _mm256_load_pd, _mm256_store_pd, _mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd,
+                        _mm256_div_pd, _mm256_sqrt_pd)
+}
+void compute_sse2(FrameBlock& b, Scratch& s, std::uint32_t count) {
+  MESHLIFT_FRAMES_BLOCK(2, _mm_set1_pd, _mm_load_pd, _mm_store_pd, _mm_add_pd, _mm_sub_pd, _mm_mul_pd, _mm_div_pd,
+                        _mm_sqrt_pd)
+}
+#undef MESHLIFT_FRAMES_BLOCK
+#endif
+
+void compute(FrameBlock& b, Scratch& s, std::uint32_t count) {
+#if defined(MESHLIFT_FRAMES_AVX)
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx) return compute_avx(b, s, count);
+  return compute_sse2(b, s, count);
+#else
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const double l = std::sqrt(b.nx[i] * b.nx[i] + b.ny[i] * b.ny[i] + b.nz[i] * b.nz[i]);
+    const Vec n = (1 / l) * Vec{b.nx[i], b.ny[i], b.nz[i]}, edge{s.ex[i], s.ey[i], s.ez[i]};
+    Vec t1 = edge - dot(edge, n) * n;
+    const double tl = std::sqrt(dot(t1, t1));
+    s.edge_length[i] = 1e-12 * std::sqrt(dot(edge, edge));
+    t1 = (1 / tl) * t1;
+    const Vec t2 = cross(n, t1);
+    b.nx[i] = n.x, b.ny[i] = n.y, b.nz[i] = n.z;
+    b.t1x[i] = t1.x, b.t1y[i] = t1.y, b.t1z[i] = t1.z;
+    b.t2x[i] = t2.x, b.t2y[i] = t2.y, b.t2z[i] = t2.z;
+    s.length[i] = l, s.t1_length[i] = tl;
+  }
+#endif
+}
+
 }  // namespace
 
-void rotate_details(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, std::span<double> details,
-                    int stride, Direction direction) {
+void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride,
+                          const std::function<void(const FrameBlock&)>& visit) {
   const TriangleTopology& t = h.topology(level);
   const std::size_t s = static_cast<std::size_t>(stride);
   auto position = [&](std::uint32_t v) { return Vec{coarse[s * v], coarse[s * v + 1], coarse[s * v + 2]}; };
 
   // Area-weighted vertex normals of the level-j mesh (the cross product's length is twice the
   // face's area, its direction the face normal).
-  std::vector<Vec> normal(t.vertex_count, Vec{0, 0, 0});
+  std::vector<Vec> normal;
+  assign_large(normal, t.vertex_count, Vec{0, 0, 0});
   for (std::size_t f = 0; f < t.face_count(); ++f) {
     const std::uint32_t a = t.triangles[3 * f], b = t.triangles[3 * f + 1], c = t.triangles[3 * f + 2];
     const Vec p = position(a);
@@ -35,37 +121,52 @@ void rotate_details(const SemiRegularHierarchy& h, int level, std::span<const do
     normal[c] = normal[c] + n;
   }
 
-  for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
-    const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
-    double* d = &details[s * h.odd_vertex(level, e)];
-    Vec n = normal[a] + normal[b];
-    const double length = std::sqrt(dot(n, n));
-    if (!(length > 0) || !std::isfinite(length)) continue;  // identity frame: leave (x, y, z) as is
-    n = (1 / length) * n;
-    const Vec edge = position(b) - position(a);
-    Vec t1 = edge - dot(edge, n) * n;
-    double t1_length = std::sqrt(dot(t1, t1));
-    if (!(t1_length > 1e-12 * std::sqrt(dot(edge, edge)))) {
-      // The edge is (nearly) along the normal, or has no length: use the axis least aligned with n.
-      const double ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
-      const Vec axis = ax <= ay && ax <= az ? Vec{1, 0, 0} : (ay <= az ? Vec{0, 1, 0} : Vec{0, 0, 1});
-      t1 = axis - dot(axis, n) * n;
-      t1_length = std::sqrt(dot(t1, t1));
+  // Per edge: n = normalize(N_a + N_b), t1 = normalize(edge - (edge . n) n), t2 = n x t1
+  // (local_frames.h), block by block.
+  const auto E = static_cast<std::uint32_t>(t.edge_count());
+  FrameBlock block;
+  Scratch scratch;
+  for (std::uint32_t first = 0; first < E; first += kBlock) {
+    const std::uint32_t count = std::min(kBlock, E - first);
+    block.first_edge = first;
+    block.count = count;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::uint32_t a = t.edge_vertices[2 * (first + i)], b = t.edge_vertices[2 * (first + i) + 1];
+      const Vec n = normal[a] + normal[b], edge = position(b) - position(a);
+      block.nx[i] = n.x, block.ny[i] = n.y, block.nz[i] = n.z;
+      scratch.ex[i] = edge.x, scratch.ey[i] = edge.y, scratch.ez[i] = edge.z;
     }
-    t1 = (1 / t1_length) * t1;
-    const Vec t2 = cross(n, t1);
-    const Vec v{d[0], d[1], d[2]};
-    if (direction == Direction::to_local) {
-      d[0] = dot(n, v);
-      d[1] = dot(t1, v);
-      d[2] = dot(t2, v);
-    } else {
-      const Vec g = v.x * n + v.y * t1 + v.z * t2;  // v holds (n, t1, t2) components here
-      d[0] = g.x;
-      d[1] = g.y;
-      d[2] = g.z;
+    for (std::uint32_t i = count; i % kLanes != 0; ++i) {  // harmless spare entries for the last lanes
+      block.nx[i] = block.ny[i] = block.nz[i] = 1;
+      scratch.ex[i] = scratch.ey[i] = scratch.ez[i] = 0;
     }
+    compute(block, scratch, count);
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const double length = scratch.length[i];
+      block.identity[i] = !(length > 0) || !std::isfinite(length);  // identity frame: (x, y, z) stay
+      if (!block.identity[i] && !(scratch.t1_length[i] > scratch.edge_length[i])) [[unlikely]] {
+        // The edge is (nearly) along the normal, or has no length: use the axis least aligned with n.
+        const Vec n{block.nx[i], block.ny[i], block.nz[i]};
+        const double ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
+        const Vec axis = ax <= ay && ax <= az ? Vec{1, 0, 0} : (ay <= az ? Vec{0, 1, 0} : Vec{0, 0, 1});
+        Vec t1 = axis - dot(axis, n) * n;
+        t1 = (1 / std::sqrt(dot(t1, t1))) * t1;
+        const Vec t2 = cross(n, t1);
+        block.t1x[i] = t1.x, block.t1y[i] = t1.y, block.t1z[i] = t1.z;
+        block.t2x[i] = t2.x, block.t2y[i] = t2.y, block.t2z[i] = t2.z;
+      }
+    }
+    visit(block);
   }
+}
+
+void rotate_details(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, std::span<double> details,
+                    int stride, Direction direction) {
+  const std::size_t s = static_cast<std::size_t>(stride);
+  for_each_frame_block(h, level, coarse, stride, [&](const FrameBlock& block) {
+    for (std::uint32_t i = 0; i < block.count; ++i)
+      block.rotate(i, &details[s * h.odd_vertex(level, block.first_edge + i)], direction);
+  });
 }
 
 }  // namespace meshlift::frames

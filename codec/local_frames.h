@@ -15,6 +15,8 @@
 // along n -> t1 from the coordinate axis least aligned with n.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <span>
 
 #include "meshlift/semi_regular.h"
@@ -25,6 +27,40 @@ enum class Direction {
   to_local,   ///< (x, y, z) -> (n, t1, t2): d_local = R^T d, R = [n t1 t2]
   to_global,  ///< (n, t1, t2) -> (x, y, z): d = R d_local
 };
+
+/// The frames of up to kCapacity consecutive edges of one level, component by component: entry
+/// i is edge first_edge + i, whose odd vertex is vertex_count(level) + first_edge + i.
+struct FrameBlock {
+  static constexpr std::uint32_t kCapacity = 64;
+  std::uint32_t first_edge = 0, count = 0;
+  alignas(32) double nx[kCapacity], ny[kCapacity], nz[kCapacity];
+  alignas(32) double t1x[kCapacity], t1y[kCapacity], t1z[kCapacity];
+  alignas(32) double t2x[kCapacity], t2y[kCapacity], t2z[kCapacity];
+  bool identity[kCapacity];  ///< |N_a + N_b| is 0 or not finite: the detail stays (x, y, z)
+
+  /// Rotates the three values at d by frame i, with the operations of FORMAT.md §3 in their order.
+  void rotate(std::uint32_t i, double* d, Direction direction) const {
+    if (identity[i]) return;
+    const double x = d[0], y = d[1], z = d[2];
+    if (direction == Direction::to_local) {  // (n . d, t1 . d, t2 . d)
+      d[0] = nx[i] * x + ny[i] * y + nz[i] * z;
+      d[1] = t1x[i] * x + t1y[i] * y + t1z[i] * z;
+      d[2] = t2x[i] * x + t2y[i] * y + t2z[i] * z;
+    } else {  // x n + y t1 + z t2, d holding (n, t1, t2) components
+      d[0] = x * nx[i] + y * t1x[i] + z * t2x[i];
+      d[1] = x * ny[i] + y * t1y[i] + z * t2y[i];
+      d[2] = x * nz[i] + y * t1z[i] + z * t2z[i];
+    }
+  }
+};
+
+/// Computes the frames of the odd vertices of level `level` + 1 from the level-`level` mesh whose
+/// positions are the first vertex_count(level) vertices of `coarse` (`stride` values per vertex,
+/// geometry first), and hands them to `visit` a block at a time, in edge order: for a caller that
+/// rotates more than one array by the same frames (the encoder's closed loop) or does more per
+/// vertex than rotate it.
+void for_each_frame_block(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> coarse, int stride,
+                          const std::function<void(const FrameBlock&)>& visit);
 
 /// Rotates the details of the odd vertices of level `level` + 1 (vertices vertex_count(level) ..
 /// vertex_count(level + 1) - 1 of `details`) by the frames of the level-`level` mesh whose

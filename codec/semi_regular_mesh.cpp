@@ -14,8 +14,8 @@ RefinedSize refined_size(const TriangleTopology& base, int levels) {
   return s;
 }
 
-SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles)
-    : has_finest_triangles_(finest_triangles || levels == 0) {
+SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles, bool coefficient_tree)
+    : has_finest_triangles_(finest_triangles || levels == 0), has_children_(coefficient_tree) {
   if (levels < 0 || levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " + std::to_string(levels));
   const RefinedSize size = refined_size(base, levels);
@@ -37,6 +37,7 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bo
   // Coefficient tree (CODEC-NOTES §1): the odd vertex on edge p of level j-1 has as children the
   // odd vertices on the halves 2p, 2p+1 of p and on the inner edges 2E_{j-1} + 3f + i parallel to
   // p (face edge i of f) in the faces f of p, in that (ascending) order.
+  if (!coefficient_tree) return;
   if (levels >= 2) assign_large(children_, 4 * std::size_t{vertex_count(levels - 1) - vertex_count(0)}, kNone);
   for (int j = 1; j < levels; ++j) {
     const TriangleTopology& coarse = topologies_[j - 1];
@@ -109,6 +110,8 @@ std::uint32_t SemiRegularHierarchy::parent(std::uint32_t vertex) const {
 }
 
 std::span<const std::uint32_t> SemiRegularHierarchy::children(std::uint32_t vertex) const {
+  if (!has_children_)
+    throw std::logic_error("SemiRegularHierarchy::children: this hierarchy was built without its coefficient tree");
   if (vertex < vertex_count(0) || levels() < 2 || vertex >= vertex_count(levels() - 1)) return {};
   const std::uint32_t* slots = children_.data() + 4 * std::size_t{vertex - vertex_count(0)};
   return {slots, slots[3] == kNone ? 3u : 4u};

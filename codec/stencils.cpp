@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numbers>
 #include <unordered_map>
 #include <utility>
@@ -46,6 +47,15 @@ class StepWriter {
   StepWriter(std::uint32_t first_target, std::size_t expected_entries) {
     step_.first_target = first_target;
     assign_large(step_.indices, expected_entries + LiftingStep::kPadding);
+  }
+  /// The same writing into `buffer` (a block's step: the indices of an earlier one, handed back),
+  /// grown if it is short, never shrunk.
+  StepWriter(std::uint32_t first_target, std::size_t expected_entries, std::vector<std::uint32_t>&& buffer)
+      : recycled_(true) {
+    step_.first_target = first_target;
+    step_.indices = std::move(buffer);
+    if (step_.indices.size() < expected_entries + LiftingStep::kPadding)
+      step_.indices.resize(expected_entries + LiftingStep::kPadding);
   }
 
   /// The pattern with exactly this scale and these weights (compared as values, as the rows that
@@ -100,7 +110,10 @@ class StepWriter {
   LiftingStep finish() {
     // Keep the padding; give back a large overestimate (boundary rows are shorter than interior ones).
     step_.indices.resize(used_ + LiftingStep::kPadding);
-    if (step_.indices.capacity() > step_.indices.size() + step_.indices.size() / 8) step_.indices.shrink_to_fit();
+    if (recycled_)  // the padding may hold an earlier block's sources; the buffer is kept whole
+      std::fill(step_.indices.begin() + static_cast<std::ptrdiff_t>(used_), step_.indices.end(), 0u);
+    else if (step_.indices.capacity() > step_.indices.size() + step_.indices.size() / 8)
+      step_.indices.shrink_to_fit();
     step_.runs.shrink_to_fit();
     return std::move(step_);
   }
@@ -133,6 +146,7 @@ class StepWriter {
 
   LiftingStep step_;
   std::size_t used_ = 0;
+  bool recycled_ = false;
   std::unordered_multimap<std::uint64_t, std::uint32_t> by_hash_;
 };
 
@@ -393,17 +407,18 @@ LiftingStep loop_update(const TriangleTopology& t) {
 // faces (c_i, m_i, m_{i+2}) and the centre (m_0, m_1, m_2); inner edge 2E + 3f + i runs
 // m_{i+2} -> m_{i+1}). Each fine edge's wings are then known without searching fine faces.
 
-LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
+namespace {
+
+/// Rows of loop_predict_refined for the halves of coarse edges [begin, end) (2 rows each).
+void loop_predict_halves(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
   const std::uint32_t V = coarse.vertex_count;
-  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  StepWriter step(fine.vertex_count, 4 * fine.edge_count());
   const double midpoint[] = {0.5, 0.5}, loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
   const std::uint32_t boundary = step.pattern(1.0, midpoint), interior = step.pattern(1.0, loop_interior);
   // Halves. Face f0 = edge_faces[2e] runs a -> b with e its edge i0: its corner face at a opposes
   // the half at a with m_{i0+2}, its corner face at b opposes the half at b with m_{i0+1}. Face
   // f1 runs b -> a with e its edge i1: at b it opposes m_{i1+2}, at a m_{i1+1}. The face running
   // a half as stored is its first face, as for every edge.
-  for (std::uint32_t e = 0; e < E; ++e) {
+  for (std::uint32_t e = begin; e < end; ++e) {
     const std::uint32_t a = coarse.edge_vertices[2 * e], b = coarse.edge_vertices[2 * e + 1], m = V + e;
     const std::uint32_t f0 = coarse.edge_faces[2 * e], f1 = coarse.edge_faces[2 * e + 1];
     if (f1 == kNone) {
@@ -417,32 +432,32 @@ LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleT
     loop_edge_row(step, interior, {a, m, V + m0[(i0 + 2) % 3], V + m1[(i1 + 1) % 3]}, loop_interior);
     loop_edge_row(step, interior, {m, b, V + m0[(i0 + 1) % 3], V + m1[(i1 + 2) % 3]}, loop_interior);
   }
+}
+
+/// Rows of loop_predict_refined for the inner edges of coarse faces [begin, end) (3 rows each).
+void loop_predict_inner(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
+  const std::uint32_t V = coarse.vertex_count;
+  const double loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
+  const std::uint32_t interior = step.pattern(1.0, loop_interior);
   // Inner edge i of face f, m_{i+2} -> m_{i+1}: its first face is the corner face at c_{i+2}, its
   // second the centre face, opposite m_i.
-  for (std::uint32_t f = 0; f < F; ++f) {
+  for (std::uint32_t f = begin; f < end; ++f) {
     const std::uint32_t* c = &coarse.triangles[3 * f];
     const std::uint32_t m[3] = {V + coarse.face_edges[3 * f], V + coarse.face_edges[3 * f + 1],
                                 V + coarse.face_edges[3 * f + 2]};
     for (int i = 0; i < 3; ++i) step.row(interior, {m[(i + 2) % 3], m[(i + 1) % 3], c[(i + 2) % 3], m[i]});
   }
-  return step.finish();
 }
 
-LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
-  const std::uint32_t V = coarse.vertex_count, fine_V = fine.vertex_count;
+/// Rows of loop_update_refined for the odd vertices V + e of coarse edges [begin, end).
+void loop_update_odd(StepWriter& step, LoopUpdatePatterns& pattern, const TriangleTopology& coarse, std::uint32_t fine_V,
+                     std::uint32_t begin, std::uint32_t end) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count());
-  StepWriter step(0, 2 * fine.edge_count());
-  LoopUpdatePatterns pattern(step);
-  // Even vertices keep their valence and boundary; their fine edges are the halves at them of
-  // their coarse edges (2e at a, 2e+1 at b), in the same order.
-  append_vertex_rows(
-      step, coarse, V, true, [fine_V](std::uint32_t e, std::uint32_t k) { return fine_V + 2 * e + k; },
-      [&](std::uint32_t, std::uint32_t n, bool on_boundary) { return pattern(n, on_boundary); });
   // Odd vertex m = V + e: the halves 2e, 2e+1, then in each face of e (lower index first) the two
   // inner edges at m, those not parallel to e (i+1 and i+2 if e is its edge i), in ascending
   // order; on the boundary only the two halves.
   const std::uint32_t regular = pattern(6, false), boundary = pattern(2, true);
-  for (std::uint32_t e = 0; e < E; ++e) {
+  for (std::uint32_t e = begin; e < end; ++e) {
     const std::uint32_t h = fine_V + 2 * e;
     std::uint32_t f0 = coarse.edge_faces[2 * e], f1 = coarse.edge_faces[2 * e + 1];
     if (f1 == kNone) {
@@ -455,7 +470,73 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
     step.row(regular, {h, h + 1, inner0 + (i0 == 0 ? 1 : 0), inner0 + (i0 == 2 ? 1 : 2), inner1 + (i1 == 0 ? 1 : 0),
                        inner1 + (i1 == 2 ? 1 : 2)});
   }
+}
+
+/// Rows of loop_update_refined for the coarse vertices (the first V rows).
+void loop_update_even(StepWriter& step, LoopUpdatePatterns& pattern, const TriangleTopology& coarse, std::uint32_t fine_V) {
+  // Even vertices keep their valence and boundary; their fine edges are the halves at them of
+  // their coarse edges (2e at a, 2e+1 at b), in the same order.
+  append_vertex_rows(
+      step, coarse, coarse.vertex_count, true, [fine_V](std::uint32_t e, std::uint32_t k) { return fine_V + 2 * e + k; },
+      [&](std::uint32_t, std::uint32_t n, bool on_boundary) { return pattern(n, on_boundary); });
+}
+
+}  // namespace
+
+LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
+  StepWriter step(fine.vertex_count, 4 * fine.edge_count());
+  loop_predict_halves(step, coarse, 0, static_cast<std::uint32_t>(coarse.edge_count()));
+  loop_predict_inner(step, coarse, 0, static_cast<std::uint32_t>(coarse.face_count()));
   return step.finish();
+}
+
+LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
+  StepWriter step(0, 2 * fine.edge_count());
+  LoopUpdatePatterns pattern(step);
+  loop_update_even(step, pattern, coarse, fine.vertex_count);
+  loop_update_odd(step, pattern, coarse, fine.vertex_count, 0, static_cast<std::uint32_t>(coarse.edge_count()));
+  return step.finish();
+}
+
+void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,
+                         const std::function<void(const LiftingStep&)>& apply) {
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  const std::uint32_t V = coarse.vertex_count, fine_V = fine.vertex_count;
+  std::vector<std::uint32_t> buffer;
+  auto run = [&](std::uint32_t first_target, std::uint32_t count, std::uint32_t rows_per_item, std::uint32_t arity,
+                 auto&& write) {
+    const std::uint32_t items = std::max<std::uint32_t>(1, block_rows / rows_per_item);
+    for (std::uint32_t begin = 0; begin < count; begin += items) {
+      const std::uint32_t end = begin + std::min(items, count - begin);
+      StepWriter step(first_target + rows_per_item * begin, std::size_t{arity} * rows_per_item * (end - begin),
+                      std::move(buffer));
+      write(step, begin, end);
+      LiftingStep block = step.finish();
+      apply(block);
+      buffer = std::move(block.indices);
+    }
+  };
+  // Predict: the halves' rows, then the inner edges' (loop_predict_refined).
+  run(fine_V, E, 2, 4, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+    loop_predict_halves(step, coarse, begin, end);
+  });
+  run(fine_V + 2 * E, F, 3, 4, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+    loop_predict_inner(step, coarse, begin, end);
+  });
+  // Update (loop_update_refined): the coarse vertices' rows in one block (their counting sort
+  // runs over all coarse edges), then the odd vertices'.
+  {
+    StepWriter step(0, 2 * std::size_t{E}, std::move(buffer));
+    LoopUpdatePatterns pattern(step);
+    loop_update_even(step, pattern, coarse, fine_V);
+    LiftingStep block = step.finish();
+    apply(block);
+    buffer = std::move(block.indices);
+  }
+  run(V, E, 1, 6, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+    LoopUpdatePatterns pattern(step);
+    loop_update_odd(step, pattern, coarse, fine_V, begin, end);
+  });
 }
 
 LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep& predict) {

@@ -2,6 +2,9 @@
 // scheme, each formula beside the code that applies it. Internal to codec/.
 #pragma once
 
+#include <cstdint>
+#include <functional>
+
 #include "meshlift/lifting.h"
 #include "meshlift/topology.h"
 
@@ -21,6 +24,14 @@ LiftingStep loop_update(const TriangleTopology& topology);
 /// about a quarter of the random memory accesses.
 LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleTopology& fine);
 LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTopology& fine);
+
+/// The rows of loop_predict_refined and then of loop_update_refined, the same rows in the same
+/// order, as consecutive blocks of about `block_rows` rows each (one step per block, its targets
+/// consecutive), handed to `apply` one at a time in one reused buffer: applying each block as it
+/// comes is the synthesis of the whole steps (a step's rows are independent: targets and sources
+/// are disjoint), without their tables in memory, and with each block's rows still in cache.
+void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,
+                         const std::function<void(const LiftingStep&)>& apply);
 
 /// Mean-preserving update for interpolating schemes (seed 003 eq. 5.9), as its synthesis
 /// (inverse) step: even = even~ - lambda_l * sum(adjacent details), lambda_l = 1 / (2 (1 + c_l)),

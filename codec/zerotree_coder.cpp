@@ -1,5 +1,7 @@
 #include "zerotree_coder.h"
 
+#include "large_array.h"
+
 #include <algorithm>
 #include <bit>
 #include <memory>
@@ -22,20 +24,30 @@ Forest::Forest(const SemiRegularHierarchy& h) {
     std::vector<std::uint32_t> fill(root_child_offsets.begin(), root_child_offsets.end() - 1);
     for (std::uint32_t e = 0; e < base.edge_count(); ++e) root_children[fill[base.edge_vertices[2 * e]]++] = h.odd_vertex(0, e);
   }
-  // Odd vertices of levels 1 .. levels - 1: 3 or 4 children each, all of the next level.
+  // Odd vertices of levels 1 .. levels - 1: 3 or 4 children each, all of the next level, read off
+  // the topologies as SemiRegularHierarchy::children() gives them (CODEC-NOTES §1): the odd vertex
+  // on edge p of level j - 1 has the odd vertices on the halves 2p, 2p + 1 of p, then those on the
+  // inner edges 2E + 3f + i parallel to p (face edge i of f) in the faces f of p, ascending. (The
+  // hierarchy need not store its tree: the decoder builds it without.)
   const std::uint32_t parents_end = levels >= 2 ? h.vertex_count(levels - 1) : roots;
-  odd_children.resize(4 * std::size_t{parents_end - roots});
-  for (int j = 1; j < levels; ++j)
-    for (std::uint32_t v = h.vertex_count(j - 1); v < h.vertex_count(j); ++v) {
-      const std::span<const std::uint32_t> c = h.children(v);
-      std::uint32_t* slots = odd_children.data() + 4 * std::size_t{v - roots};
-      if (c.size() < 3 || c.size() > 4) throw std::logic_error("zerotree::Forest: an odd vertex without 3 or 4 children");
-      for (std::size_t k = 0; k < 4; ++k) {
-        slots[k] = k < c.size() ? c[k] : kNoChild;
-        if (k < c.size() && (c[k] < h.vertex_count(j) || c[k] >= h.vertex_count(j + 1)))
-          throw std::logic_error("zerotree::Forest: a child not on the next level");
-      }
+  assign_large(odd_children, 4 * std::size_t{parents_end - roots}, kNoChild);
+  for (int j = 1; j < levels; ++j) {
+    const TriangleTopology& coarse = h.topology(j - 1);
+    const auto coarse_edges = static_cast<std::uint32_t>(coarse.edge_count());
+    std::uint32_t* slots = odd_children.data() + 4 * std::size_t{h.vertex_count(j - 1) - roots};
+    for (std::uint32_t p = 0; p < coarse_edges; ++p) {
+      slots[4 * p] = h.odd_vertex(j, 2 * p);
+      slots[4 * p + 1] = h.odd_vertex(j, 2 * p + 1);
     }
+    for (std::uint32_t f = 0; f < coarse.face_count(); ++f)
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        std::uint32_t* slot = slots + 4 * std::size_t{coarse.face_edges[3 * f + i]};
+        if (slot[3] != kNoChild) throw std::logic_error("zerotree::Forest: an edge in more than two faces");
+        slot[slot[2] == kNoChild ? 2 : 3] = h.odd_vertex(j, 2 * coarse_edges + 3 * f + i);
+      }
+    for (std::uint32_t p = 0; p < coarse_edges; ++p)
+      if (slots[4 * p + 2] == kNoChild) throw std::logic_error("zerotree::Forest: an odd vertex without 3 or 4 children");
+  }
 }
 
 SignificantList::SignificantList(std::size_t capacity)

@@ -73,6 +73,12 @@ struct LiftingStep {
 class WaveletTransform {
  public:
   WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options);
+  /// Only the tables of levels first_level .. end_level - 1 (of the steps first_level ->
+  /// end_level): for a caller that runs one level at a time and wants the tables of one level in
+  /// memory at once (a decoder: those of the last level are about three quarters of all).
+  /// analyze() and synthesize() throw std::logic_error when asked for a level without tables.
+  /// \pre 0 <= first_level <= end_level <= hierarchy.levels().
+  WaveletTransform(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int first_level, int end_level);
 
   /// Fine values -> base values (vertices [0, vertex_count(0))) and, at every odd vertex, its
   /// detail coefficient; in place. values holds vertex_count(levels) * channels doubles
@@ -86,14 +92,27 @@ class WaveletTransform {
 
   int levels() const { return static_cast<int>(steps_.size()); }
   const WaveletOptions& options() const { return options_; }
-  /// Steps of level j -> j+1, in synthesis order.
+  /// Steps of level j -> j+1, in synthesis order (empty for a level without tables).
   const std::vector<LiftingStep>& steps(int level) const { return steps_[level]; }
   std::size_t memory_bytes() const;
 
  private:
+  void require_tables(int first_level, int end_level) const;
+
   WaveletOptions options_;
+  int first_level_ = 0, end_level_ = 0;  ///< the levels with tables
   std::vector<std::uint32_t> vertex_counts_;
   std::vector<std::vector<LiftingStep>> steps_;
 };
+
+/// Synthesis of level `level` -> `level` + 1 alone: the bits of
+/// WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level),
+/// for a caller that runs one level at a time and needs no tables afterwards (a decoder). For
+/// Loop above the base, the level's rows are built and applied a block at a time in one small
+/// buffer, so its tables (18 bytes per vertex of level + 1) are never all in memory and each
+/// block is applied while it is in cache; other levels and schemes build the level's tables.
+/// \pre 0 <= level < hierarchy.levels(); values hold vertex_count(level + 1) * channels doubles.
+void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                      int channels = 3);
 
 }  // namespace meshlift

@@ -30,7 +30,10 @@ class SemiRegularHierarchy {
   /// `finest_triangles` false leaves out the finest level's faces, the largest array (24 bytes per
   /// finest vertex): for a caller that needs them only once, at the end, from copy_triangles()
   /// (a decoder's output); triangles(levels()) then throws std::logic_error.
-  SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles = true);
+  /// `coefficient_tree` false leaves out the stored children of children() (4 bytes per vertex):
+  /// for a caller that does not ask for them (the codec's coder reads the tree off the
+  /// topologies); children() then throws std::logic_error.
+  SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles = true, bool coefficient_tree = true);
 
   int levels() const { return static_cast<int>(vertex_counts_.size()) - 1; }
   /// Number of vertices of the mesh at `level` (levels 0..levels()).
@@ -60,6 +63,7 @@ class SemiRegularHierarchy {
   std::uint32_t parent(std::uint32_t vertex) const;
   /// Children of a vertex in the coefficient tree, in ascending order (4 for an interior edge's
   /// odd vertex, 3 on a boundary; none for base vertices and the finest level).
+  /// \throw std::logic_error if this hierarchy was built without its coefficient tree.
   std::span<const std::uint32_t> children(std::uint32_t vertex) const;
 
   /// Bytes held by this hierarchy (topologies and tree).
@@ -70,6 +74,7 @@ class SemiRegularHierarchy {
   std::vector<TriangleTopology> topologies_;  ///< levels 0 .. levels() - 1
   std::vector<std::uint32_t> finest_triangles_;  ///< faces of level levels() >= 1 (if kept)
   bool has_finest_triangles_ = true;
+  bool has_children_ = true;
   /// 4 slots per vertex of levels 1 .. levels() - 1 (from vertex_count(0) on): its children, the
   /// 4th kNone for a boundary edge's vertex. Fixed slots need no offsets array.
   std::vector<std::uint32_t> children_;
