@@ -88,12 +88,9 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
   // pinned in the solve (a large weight to their position) and then put back exactly.
   std::vector<std::uint32_t> pinned;
   {
-    const TriangleTopology topology = TriangleTopology::build(n, triangles);
-    std::vector<std::uint8_t> on_boundary(n, 0);
-    for (std::uint32_t e = 0; e < topology.edge_count(); ++e)
-      if (topology.is_boundary_edge(e)) on_boundary[topology.edge_vertices[2 * e]] = on_boundary[topology.edge_vertices[2 * e + 1]] = 1;
+    const VertexEdges vertex_edges(TriangleTopology::build(n, triangles));
     for (std::uint32_t v = 0; v < n; ++v)
-      if (on_boundary[v]) pinned.push_back(v);
+      if (vertex_edges.boundary[v]) pinned.push_back(v);
   }
   const TriangleMesh& input = surface.mesh();
   const std::size_t sample_count = static_cast<std::size_t>(std::ceil(options.samples_per_face * faces));

@@ -51,12 +51,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     for (std::size_t f = 0; f < faces; ++f)
       for (int i = 0; i < 3; ++i) incident[fill[triangles[3 * f + i]]++] = static_cast<std::uint32_t>(f);
   }
-  std::vector<std::uint8_t> on_boundary(n, 0);
-  {
-    const TriangleTopology topology = TriangleTopology::build(n, triangles);
-    for (std::uint32_t e = 0; e < topology.edge_count(); ++e)
-      if (topology.is_boundary_edge(e)) on_boundary[topology.edge_vertices[2 * e]] = on_boundary[topology.edge_vertices[2 * e + 1]] = 1;
-  }
+  const std::vector<std::uint8_t> on_boundary = VertexEdges(TriangleTopology::build(n, triangles)).boundary;
 
   auto input_normal = [&](std::uint32_t f) {
     const std::uint32_t* t = &input.triangles[3 * std::size_t{f}];
