@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "meshlift/topology.h"
+#include "parallel.h"
 #include "vec3.h"
 
 namespace meshlift {
@@ -72,7 +73,9 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     return dot(normal, input_normal(surface.closest(centroid(f)).face)) < 0;
   };
   std::vector<std::uint8_t> folded(faces);
-  for (std::size_t f = 0; f < faces; ++f) folded[f] = is_folded(f);
+  parallel_blocks(faces, 0, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) folded[f] = is_folded(f);
+  });
   report.folded_before = static_cast<std::size_t>(std::count(folded.begin(), folded.end(), 1));
 
   std::vector<std::uint32_t> stamp(faces, 0), vertex_stamp(n, 0), local(n, kNone);
