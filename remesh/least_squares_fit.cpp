@@ -19,7 +19,7 @@
 #include <stdexcept>
 
 #include "meshlift/metric.h"
-#include "meshlift/topology.h"
+#include "adjacency.h"
 #include "parallel.h"
 #include "vec3.h"
 
@@ -38,19 +38,18 @@ struct Pattern {
   std::vector<int> offsets, columns;
   std::vector<std::array<int, 9>> face_slots;
 
-  Pattern(std::uint32_t vertices, const std::vector<std::uint32_t>& triangles) {
-    std::vector<std::vector<std::uint32_t>> rows(vertices);
-    for (std::uint32_t v = 0; v < vertices; ++v) rows[v].push_back(v);
-    for (std::size_t t = 0; t < triangles.size(); t += 3)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          if (i != j) rows[triangles[t + i]].push_back(triangles[t + j]);
+  Pattern(const Adjacency& adjacency, const std::vector<std::uint32_t>& triangles) {
+    const std::size_t vertices = adjacency.neighbour_offsets.size() - 1;
     offsets.assign(vertices + 1, 0);
+    columns.reserve(adjacency.neighbours.size() + vertices);
     for (std::uint32_t v = 0; v < vertices; ++v) {
-      std::sort(rows[v].begin(), rows[v].end());
-      rows[v].erase(std::unique(rows[v].begin(), rows[v].end()), rows[v].end());
-      offsets[v + 1] = offsets[v] + static_cast<int>(rows[v].size());
-      columns.insert(columns.end(), rows[v].begin(), rows[v].end());
+      const auto first = adjacency.neighbours.begin() + adjacency.neighbour_offsets[v];
+      const auto end = adjacency.neighbours.begin() + adjacency.neighbour_offsets[v + 1];
+      const auto diagonal = std::lower_bound(first, end, v);
+      columns.insert(columns.end(), first, diagonal);
+      columns.push_back(static_cast<int>(v));
+      columns.insert(columns.end(), diagonal, end);
+      offsets[v + 1] = static_cast<int>(columns.size());
     }
     face_slots.resize(triangles.size() / 3);
     for (std::size_t f = 0; f < face_slots.size(); ++f)
@@ -83,23 +82,24 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
   const std::size_t faces = triangles.size() / 3;
   if (options.iterations == 0 || faces == 0) return report;
 
-  Pattern pattern(n, triangles);
+  const Adjacency adjacency(n, triangles);
+  Pattern pattern(adjacency, triangles);
   // Boundary vertices stay where the fitting stage put them, on the input's boundary curves:
   // pinned in the solve (a large weight to their position) and then put back exactly.
   std::vector<std::uint32_t> pinned;
-  {
-    const VertexEdges vertex_edges(TriangleTopology::build(n, triangles));
-    for (std::uint32_t v = 0; v < n; ++v)
-      if (vertex_edges.boundary[v]) pinned.push_back(v);
-  }
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (adjacency.on_boundary(v)) pinned.push_back(v);
   const TriangleMesh& input = surface.mesh();
   const std::size_t sample_count = static_cast<std::size_t>(std::ceil(options.samples_per_face * faces));
   std::vector<std::uint32_t> sample_faces;
   const std::vector<double> samples = area_samples(input, sample_count, options.seed, options.threads, &sample_faces);
+  // The input's face normals (length: twice the area), for the normal tests and the area.
+  std::vector<Vec> input_normals(input.face_count());
   double input_area = 0;
-  for (std::size_t f = 0; f < input.face_count(); ++f)
-    input_area += 0.5 * std::sqrt(dot(face_normal(input.positions, &input.triangles[3 * f]),
-                                      face_normal(input.positions, &input.triangles[3 * f])));
+  for (std::size_t f = 0; f < input.face_count(); ++f) {
+    input_normals[f] = face_normal(input.positions, &input.triangles[3 * f]);
+    input_area += 0.5 * std::sqrt(dot(input_normals[f], input_normals[f]));
+  }
   const double sample_weight = samples.empty() ? 0 : input_area / static_cast<double>(samples.size() / 3);
 
   // Four points per mesh face: the centroid and the midpoints between it and each corner.
@@ -154,12 +154,13 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
     });
 
     // Which way each face should face: the input's normal at the closest point of its centroid.
-    std::vector<Vec> reference(faces);
+    std::vector<Vec> normals(faces), reference(faces);
     std::vector<std::uint8_t> facing_before(faces);
     std::size_t folded = 0;
     for (std::size_t f = 0; f < faces; ++f) {
-      reference[f] = face_normal(input.positions, &input.triangles[3 * std::size_t{on_input[kPoints * f].face}]);
-      facing_before[f] = dot(face_normal(x, &triangles[3 * f]), reference[f]) > 0;
+      normals[f] = face_normal(x, &triangles[3 * f]);
+      reference[f] = input_normals[on_input[kPoints * f].face];
+      facing_before[f] = dot(normals[f], reference[f]) > 0;
       folded += !facing_before[f];
     }
     report.folded_faces.push_back(folded);
@@ -175,26 +176,25 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
       }
     };
     double input_sum = 0, mesh_sum = 0, mesh_area = 0;
+    std::size_t used_samples = 0;
     for (std::size_t s = 0; s < on_mesh.size(); ++s) {
       // A sample whose closest mesh face faces the other way belongs to another sheet of the
       // surface (the far side of a thin part): it would pull that face through (ICP's normal
       // compatibility test).
-      if (dot(face_normal(x, &triangles[3 * std::size_t{on_mesh[s].face}]),
-              face_normal(input.positions, &input.triangles[3 * std::size_t{sample_faces[s]}])) <= 0)
-        continue;
+      if (dot(normals[on_mesh[s].face], input_normals[sample_faces[s]]) <= 0) continue;
       add(on_mesh[s].face, on_mesh[s].barycentric.data(), sample_weight, &samples[3 * s]);
       input_sum += on_mesh[s].distance * on_mesh[s].distance;
+      ++used_samples;
     }
     for (std::size_t f = 0; f < faces; ++f) {
-      const Vec nf = face_normal(x, &triangles[3 * f]);
-      const double area = 0.5 * std::sqrt(dot(nf, nf));
+      const double area = 0.5 * std::sqrt(dot(normals[f], normals[f]));
       mesh_area += area;
       for (int k = 0; k < kPoints; ++k) {
         add(f, kInner[k], area / kPoints, on_input[kPoints * f + k].point.data());
         mesh_sum += area / kPoints * on_input[kPoints * f + k].distance * on_input[kPoints * f + k].distance;
       }
     }
-    report.input_to_mesh_rms.push_back(std::sqrt(input_sum / std::max<double>(1, static_cast<double>(on_mesh.size()))));
+    report.input_to_mesh_rms.push_back(std::sqrt(input_sum / std::max<double>(1, static_cast<double>(used_samples))));
     report.mesh_to_input_rms.push_back(mesh_area > 0 ? std::sqrt(mesh_sum / mesh_area) : 0);
     // Membrane around V⁰: κ Σ |(V_j − V_k) − (V⁰_j − V⁰_k)|² over the edges (each once: j < k).
     const double kappa = options.stiffness * mesh_area / static_cast<double>(faces);

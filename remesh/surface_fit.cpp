@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "meshlift/lifting.h"
+#include "adjacency.h"
 #include "parallel.h"
 #include "vec3.h"
 
@@ -34,48 +35,6 @@ using vec3::at;
 using vec3::cross;
 using vec3::dot;
 using vec3::sub;
-
-/// Vertex -> neighbours and vertex -> incident faces of a triangle list (CSR), plus which
-/// neighbours are across a boundary edge.
-struct Adjacency {
-  std::vector<std::uint32_t> face_offsets, faces;
-  std::vector<std::uint32_t> neighbour_offsets, neighbours;
-  std::vector<std::uint32_t> boundary_neighbour_offsets, boundary_neighbours;
-
-  Adjacency(std::uint32_t vertices, const std::vector<std::uint32_t>& triangles) {
-    face_offsets.assign(vertices + 1, 0);
-    for (std::uint32_t v : triangles) ++face_offsets[v + 1];
-    for (std::uint32_t v = 0; v < vertices; ++v) face_offsets[v + 1] += face_offsets[v];
-    faces.resize(triangles.size());
-    std::vector<std::uint32_t> fill(face_offsets.begin(), face_offsets.end() - 1);
-    for (std::size_t f = 0; f < triangles.size() / 3; ++f)
-      for (int i = 0; i < 3; ++i) faces[fill[triangles[3 * f + i]]++] = static_cast<std::uint32_t>(f);
-    // Neighbours: every face around v names two of them; a neighbour named by one face only is
-    // across a boundary edge.
-    neighbour_offsets.assign(vertices + 1, 0);
-    boundary_neighbour_offsets.assign(vertices + 1, 0);
-    std::vector<std::uint32_t> ring;
-    for (std::uint32_t v = 0; v < vertices; ++v) {
-      ring.clear();
-      for (std::uint32_t k = face_offsets[v]; k < face_offsets[v + 1]; ++k) {
-        const std::uint32_t f = faces[k];
-        int i = 0;
-        while (triangles[3 * f + i] != v) ++i;
-        const std::uint32_t next = triangles[3 * f + (i + 1) % 3], prev = triangles[3 * f + (i + 2) % 3];
-        ring.push_back(next), ring.push_back(prev);
-      }
-      std::sort(ring.begin(), ring.end());
-      for (std::size_t k = 0; k < ring.size(); ++k) {
-        if (k > 0 && ring[k] == ring[k - 1]) continue;
-        neighbours.push_back(ring[k]);
-        if (k + 1 == ring.size() || ring[k + 1] != ring[k]) boundary_neighbours.push_back(ring[k]);  // in one face only
-      }
-      neighbour_offsets[v + 1] = static_cast<std::uint32_t>(neighbours.size());
-      boundary_neighbour_offsets[v + 1] = static_cast<std::uint32_t>(boundary_neighbours.size());
-    }
-  }
-  bool on_boundary(std::uint32_t v) const { return boundary_neighbour_offsets[v + 1] > boundary_neighbour_offsets[v]; }
-};
 
 /// Closest points on the input's boundary edges (brute force: boundaries are short).
 struct BoundaryCurves {

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "meshlift/topology.h"
+#include "adjacency.h"
 #include "parallel.h"
 #include "vec3.h"
 
@@ -42,17 +42,11 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   const TriangleMesh& input = surface.mesh();
   std::vector<double>& x = mesh.positions;
 
-  // Vertex -> faces (CSR) and the mesh's own boundary vertices (they stay on the input's
-  // boundary curves, where the fitting put them).
-  std::vector<std::uint32_t> offsets(n + 1, 0), incident(triangles.size());
-  for (std::uint32_t v : triangles) ++offsets[v + 1];
-  for (std::uint32_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
-  {
-    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-    for (std::size_t f = 0; f < faces; ++f)
-      for (int i = 0; i < 3; ++i) incident[fill[triangles[3 * f + i]]++] = static_cast<std::uint32_t>(f);
-  }
-  const std::vector<std::uint8_t> on_boundary = VertexEdges(TriangleTopology::build(n, triangles)).boundary;
+  // Vertex -> faces and neighbours. The mesh's own boundary vertices stay on the input's boundary
+  // curves, where the fitting put them.
+  const Adjacency adjacency(n, triangles);
+  const std::vector<std::uint32_t>& offsets = adjacency.face_offsets;
+  const std::vector<std::uint32_t>& incident = adjacency.faces;
 
   auto input_normal = [&](std::uint32_t f) {
     const std::uint32_t* t = &input.triangles[3 * std::size_t{f}];
@@ -119,7 +113,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
             if (vertex_stamp[v] == generation) continue;
             vertex_stamp[v] = generation;
             vertices.push_back(v);
-            bool all_in = !on_boundary[v];
+            bool all_in = !adjacency.on_boundary(v);
             for (std::uint32_t j = offsets[v]; all_in && j < offsets[v + 1]; ++j) all_in = stamp[incident[j]] == generation;
             if (all_in) local[v] = static_cast<std::uint32_t>(inner.size()), inner.push_back(v);
             else local[v] = kNone;
@@ -134,35 +128,30 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           for (int c = 0; c < 3; ++c) normal[c] += m[c];
         }
         normal = unit(normal);
+        if (dot(normal, normal) == 0) break;
         for (std::uint32_t v : vertices)
           for (int c = 0; c < 3; ++c) origin[c] += x[3 * v + c] / static_cast<double>(vertices.size());
-        if (dot(normal, normal) == 0) break;
 
-        // Tutte's barycentric mapping in the frame (e1, e2, normal): every inner vertex at the
-        // mean of its neighbours, u and v (the plane) and the height h alike, the rim fixed.
-        // With uniform weights the system is the graph Laplacian restricted to the inner
-        // vertices: symmetric positive definite.
+        // Tutte's barycentric mapping: every inner vertex at the mean of its neighbours, the rim
+        // fixed. The map is linear, so solving it on the world coordinates (relative to the
+        // origin) gives, projected on the plane, the planar Tutte embedding of the projected rim,
+        // and along the normal a harmonic height. With uniform weights the system is the graph
+        // Laplacian restricted to the inner vertices: symmetric positive definite.
         std::vector<Eigen::Triplet<double>> entries;
         Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 3);
         double radius = 0;
         for (std::uint32_t i = 0; i < inner.size(); ++i) {
           const std::uint32_t v = inner[i];
-          std::vector<std::uint32_t> ring;
-          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
-            for (int k = 0; k < 3; ++k) {
-              const std::uint32_t w = triangles[3 * std::size_t{incident[j]} + k];
-              if (w != v) ring.push_back(w);
-            }
-          std::sort(ring.begin(), ring.end());
-          ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-          entries.emplace_back(i, i, static_cast<double>(ring.size()));
-          for (std::uint32_t w : ring) {
+          const std::uint32_t first = adjacency.neighbour_offsets[v], end = adjacency.neighbour_offsets[v + 1];
+          entries.emplace_back(i, i, static_cast<double>(end - first));
+          for (std::uint32_t k = first; k < end; ++k) {
+            const std::uint32_t w = adjacency.neighbours[k];
             if (local[w] != kNone) {
               entries.emplace_back(i, local[w], -1.0);
             } else {
               const Vec d = sub(at(x, w), origin);
-              for (int c = 0; c < 3; ++c) rhs(i, c) += d[c];  // solved in world axes: the map is
-            }                                                  // linear, so any frame gives the same
+              for (int c = 0; c < 3; ++c) rhs(i, c) += d[c];
+            }
           }
           const Vec d = sub(at(x, v), origin);
           radius = std::max(radius, std::sqrt(dot(d, d)));

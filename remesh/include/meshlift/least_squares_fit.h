@@ -6,7 +6,9 @@
 //
 // Why: a mesh whose vertices all lie on a curved surface has all its chord error on one side
 // (the triangles cut inside convex parts). Letting the vertices leave the surface by a fraction
-// of the sag centres the error: for a parabolic arc the RMS distance falls by a factor ~2.4.
+// of the sag centres the error. For a chord under a parabolic arc of sag s the distance along the
+// chord is s(1 − u²), u ∈ [−1, 1]: its RMS is s·sqrt(8/15) about zero and s·sqrt(8/15 − 4/9)
+// about its mean 2s/3, so moving the chord by the mean divides the RMS by ~2.4.
 // The symmetric surface distance (metric.h) is what the rate-distortion figures measure.
 #pragma once
 
@@ -37,9 +39,9 @@ struct LeastSquaresFitOptions {
   unsigned threads = 0;
 };
 
-/// What each round achieved: the energy's two data terms as RMS distances (input samples to the
-/// mesh, mesh samples to the input) before the round's solve, and faces whose move was undone
-/// because it would have turned them over.
+/// What each round achieved: the energy's two data terms as RMS distances (the input samples the
+/// round uses to the mesh, mesh samples to the input) before the round's solve, and faces whose
+/// move was undone because it would have turned them over.
 struct LeastSquaresFitReport {
   std::vector<double> input_to_mesh_rms, mesh_to_input_rms;
   std::vector<std::size_t> reverted_faces;
