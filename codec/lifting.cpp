@@ -221,6 +221,13 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     throw std::invalid_argument("synthesize_level: no level " + std::to_string(level) + " below the finest");
   if (values.size() < static_cast<std::size_t>(hierarchy.vertex_count(level + 1)) * channels)
     throw std::invalid_argument("synthesize_level: values hold fewer vertices than the level makes");
+  if (options.scheme != Scheme::loop && !options.mean_preserving_update) {
+    // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources.
+    constexpr std::uint32_t kBlockRows = 8192;
+    stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows,
+                             [&](const LiftingStep& step) { apply_step<true>(step, values.data(), channels); });
+    return;
+  }
   if (options.scheme != Scheme::loop || level == 0) {
     WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level);
     return;

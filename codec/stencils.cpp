@@ -7,6 +7,8 @@
 #include <cstring>
 #include <functional>
 #include <numbers>
+#include <optional>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 
@@ -176,10 +178,11 @@ std::uint32_t boundary_neighbour(const TriangleTopology& t, const VertexEdges& v
   return kNone;
 }
 
-/// Ring of interior vertex `centre` in face order, starting at `start` (an edge neighbour).
-std::vector<std::uint32_t> ordered_ring(const TriangleTopology& t, std::uint32_t centre, std::uint32_t start,
-                                        std::uint32_t start_edge, unsigned valence) {
-  std::vector<std::uint32_t> ring{start};
+/// Ring of interior vertex `centre` in face order, starting at `start` (an edge neighbour),
+/// written into `ring` (reused from row to row).
+void ordered_ring(const TriangleTopology& t, std::uint32_t centre, std::uint32_t start, std::uint32_t start_edge,
+                  unsigned valence, std::vector<std::uint32_t>& ring) {
+  ring.assign(1, start);
   std::uint32_t e = start_edge, f = t.edge_faces[2 * start_edge];
   while (ring.size() < valence) {
     const std::uint32_t w = t.opposite_vertex(f, e);
@@ -187,7 +190,6 @@ std::vector<std::uint32_t> ordered_ring(const TriangleTopology& t, std::uint32_t
     e = face_edge(t, f, centre, w);
     f = other_face(t, e, f);
   }
-  return ring;
 }
 
 /// Zorin-Schroeder-Sweldens weights s_i on the ring of an extraordinary vertex of valence K
@@ -204,18 +206,49 @@ std::vector<double> butterfly_ring_weights(unsigned K) {
   return s;
 }
 
-void butterfly_row(const TriangleTopology& t, const VertexEdges& ve, std::uint32_t e, RowBuilder& row) {
+/// What butterfly's rows need to know of a level's vertices: valence and boundary flag from one
+/// pass over the edges; the incident edges (VertexEdges) only if the level has a boundary, where
+/// the 4-point rule walks them. The ring weights of each extraordinary valence, made once.
+class ButterflyVertices {
+ public:
+  explicit ButterflyVertices(const TriangleTopology& t) : valence_(t.vertex_count, 0), boundary_(t.vertex_count, 0) {
+    bool any_boundary = false;
+    for (std::size_t e = 0; e < t.edge_count(); ++e) {
+      const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
+      ++valence_[a];
+      ++valence_[b];
+      if (t.edge_faces[2 * e + 1] == kNone) boundary_[a] = boundary_[b] = 1, any_boundary = true;
+    }
+    if (any_boundary) edges_.emplace(t);
+  }
+  std::uint32_t valence(std::uint32_t v) const { return valence_[v]; }
+  bool irregular(std::uint32_t v) const { return !boundary_[v] && valence_[v] != 6; }
+  const VertexEdges& edges() const { return *edges_; }
+  const std::vector<double>& ring_weights(unsigned K) {
+    if (ring_weights_.size() <= K) ring_weights_.resize(K + 1);
+    if (ring_weights_[K].empty()) ring_weights_[K] = butterfly_ring_weights(K);
+    return ring_weights_[K];
+  }
+
+ private:
+  std::vector<std::uint32_t> valence_;
+  std::vector<std::uint8_t> boundary_;
+  std::optional<VertexEdges> edges_;
+  std::vector<std::vector<double>> ring_weights_;
+};
+
+void butterfly_row(const TriangleTopology& t, ButterflyVertices& vertices, std::uint32_t e, RowBuilder& row,
+                   std::vector<std::uint32_t>& ring) {
   const std::uint32_t a0 = t.edge_vertices[2 * e], a1 = t.edge_vertices[2 * e + 1];
   if (t.is_boundary_edge(e)) {
     // Boundary: 4-point rule (-1, 9, 9, -1)/16 along the boundary polyline (Dyn, Levin, Gregory 1987).
     row.add(a0, 9.0 / 16);
     row.add(a1, 9.0 / 16);
-    row.add(boundary_neighbour(t, ve, a0, a1), -1.0 / 16);
-    row.add(boundary_neighbour(t, ve, a1, a0), -1.0 / 16);
+    row.add(boundary_neighbour(t, vertices.edges(), a0, a1), -1.0 / 16);
+    row.add(boundary_neighbour(t, vertices.edges(), a1, a0), -1.0 / 16);
     return;
   }
-  auto irregular = [&](std::uint32_t v) { return !ve.boundary[v] && ve.valence(v) != 6; };
-  if (!irregular(a0) && !irregular(a1)) {
+  if (!vertices.irregular(a0) && !vertices.irregular(a1)) {
     // Regular 8-point butterfly: (a0+a1)/2 + (b0+b1)/8 - (c0+c1+c2+c3)/16 (seed 003 §5.3.2).
     // A tip c across a boundary wing edge (x, b) of face (x, b, y) is missing; like OpenMesh's
     // ModifiedButterFlyT we use its reflection x + b - y, which keeps linear reproduction.
@@ -242,12 +275,12 @@ void butterfly_row(const TriangleTopology& t, const VertexEdges& ve, std::uint32
   }
   // Extraordinary endpoint(s): 3/4 on the vertex and s_i on its ring, ring index 0 at the edge's
   // other endpoint; averaged when both endpoints are extraordinary (Zorin et al. 1996).
-  const double share = irregular(a0) && irregular(a1) ? 0.5 : 1.0;
+  const double share = vertices.irregular(a0) && vertices.irregular(a1) ? 0.5 : 1.0;
   for (const std::uint32_t x : {a0, a1}) {
-    if (!irregular(x)) continue;
-    const unsigned K = ve.valence(x);
-    const auto ring = ordered_ring(t, x, x == a0 ? a1 : a0, e, K);
-    const auto s = butterfly_ring_weights(K);
+    if (!vertices.irregular(x)) continue;
+    const unsigned K = vertices.valence(x);
+    ordered_ring(t, x, x == a0 ? a1 : a0, e, K, ring);
+    const std::vector<double>& s = vertices.ring_weights(K);
     row.add(x, share * 0.75);
     for (unsigned i = 0; i < K; ++i) row.add(ring[i], share * s[i]);
   }
@@ -335,6 +368,58 @@ std::uint32_t opposite(const TriangleTopology& t, std::uint32_t f, std::uint32_t
   return t.triangles[3 * f + (edge_in_face(t, f, e) + 2) % 3];
 }
 
+/// The rows of predict(t, Scheme::butterfly) for edges [begin, end). An interior edge between
+/// two regular vertices whose four wings all have a face across, and whose eight sources are
+/// distinct (all but the smallest meshes), is the regular row: written straight, with the
+/// sources in butterfly_row's order (a0, a1, then per side its b and the tips across the wings
+/// at a0 and at a1). Every other row is built by butterfly_row.
+void butterfly_rows(StepWriter& step, const TriangleTopology& t, ButterflyVertices& vertices, std::uint32_t begin,
+                    std::uint32_t end) {
+  const double regular_weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
+  const std::uint32_t regular = step.pattern(1.0, regular_weights);
+  RowBuilder row;
+  std::vector<std::uint32_t> ring;
+  for (std::uint32_t e = begin; e < end; ++e) {
+    const std::uint32_t a0 = t.edge_vertices[2 * e], a1 = t.edge_vertices[2 * e + 1];
+    if (t.edge_faces[2 * e + 1] != kNone && !vertices.irregular(a0) && !vertices.irregular(a1)) {
+      std::uint32_t sources[8] = {a0, a1};
+      bool regular_row = true;
+      for (std::uint32_t side = 0; side < 2; ++side) {
+        // Face f has e as its edge i, corners c_i -> c_{i+1}: (a0, a1) on side 0, (a1, a0) on
+        // side 1. Face edge i+1 joins c_{i+1} and b = c_{i+2}, face edge i+2 joins b and c_i.
+        const std::uint32_t f = t.edge_faces[2 * e + side], i = edge_in_face(t, f, e);
+        const std::uint32_t next = 3 * f + (i + 1) % 3, previous = 3 * f + (i + 2) % 3;
+        sources[2 + 3 * side] = t.triangles[previous];
+        const std::uint32_t wings[2] = {t.face_edges[side == 0 ? previous : next], t.face_edges[side == 0 ? next : previous]};
+        for (std::uint32_t k = 0; k < 2; ++k) {
+          const std::uint32_t across = other_face(t, wings[k], f);
+          if (across == kNone) {
+            regular_row = false;
+            break;
+          }
+          sources[3 + 3 * side + k] = opposite(t, across, wings[k]);
+        }
+      }
+      for (int i = 1; i < 8 && regular_row; ++i)
+        for (int k = 0; k < i; ++k) regular_row &= sources[i] != sources[k];
+      if (regular_row) [[likely]] {
+        step.row(regular, sources);
+        continue;
+      }
+    }
+    butterfly_row(t, vertices, e, row, ring);
+    step.row(row);
+    row.clear();
+  }
+}
+
+/// The rows of predict(t, Scheme::linear) for edges [begin, end): odd = (a + b) / 2.
+void linear_rows(StepWriter& step, const TriangleTopology& t, std::uint32_t begin, std::uint32_t end) {
+  const double midpoint[] = {0.5, 0.5};
+  const std::uint32_t pattern = step.pattern(1.0, midpoint);
+  for (std::uint32_t e = begin; e < end; ++e) step.row(pattern, {t.edge_vertices[2 * e], t.edge_vertices[2 * e + 1]});
+}
+
 /// Loop's interior edge row (a, b, c, d) with weights 3/8, 3/8, 1/8, 1/8; c == d (both faces of
 /// the edge share their third vertex, a two-face "pillow") merges into one source of weight 1/4.
 [[gnu::noinline]] void merged_row(StepWriter& step, const std::uint32_t (&sources)[4], const double* weights) {
@@ -352,27 +437,28 @@ inline void loop_edge_row(StepWriter& step, std::uint32_t interior, const std::u
 
 }  // namespace
 
+namespace {
+
+/// Expected index entries per predict row (exact for closed meshes but for butterfly's
+/// extraordinary rows, which the writer grows for).
+std::size_t predict_arity(Scheme scheme) { return scheme == Scheme::butterfly ? 8u : scheme == Scheme::loop ? 4u : 2u; }
+
+}  // namespace
+
 LiftingStep predict(const TriangleTopology& t, Scheme scheme) {
   const auto E = static_cast<std::uint32_t>(t.edge_count());
-  StepWriter step(t.vertex_count, std::size_t{scheme == Scheme::butterfly ? 8u : scheme == Scheme::loop ? 4u : 2u} * E);
+  StepWriter step(t.vertex_count, predict_arity(scheme) * E);
   // odd = (a + b) / 2: linear everywhere, and Loop on a boundary edge (cubic B-spline midpoint rule).
   const double midpoint[] = {0.5, 0.5};
   // Loop on an interior edge: odd = 3/8 (a + b) + 1/8 (c + d), c, d the wing vertices.
   const double loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
   switch (scheme) {
-    case Scheme::linear: {
-      const std::uint32_t pattern = step.pattern(1.0, midpoint);
-      for (std::uint32_t e = 0; e < E; ++e) step.row(pattern, {t.edge_vertices[2 * e], t.edge_vertices[2 * e + 1]});
+    case Scheme::linear:
+      linear_rows(step, t, 0, E);
       break;
-    }
     case Scheme::butterfly: {
-      const VertexEdges ve(t);
-      RowBuilder row;
-      for (std::uint32_t e = 0; e < E; ++e) {
-        butterfly_row(t, ve, e, row);
-        step.row(row);
-        row.clear();
-      }
+      ButterflyVertices vertices(t);
+      butterfly_rows(step, t, vertices, 0, E);
       break;
     }
     case Scheme::loop: {
@@ -389,6 +475,26 @@ LiftingStep predict(const TriangleTopology& t, Scheme scheme) {
     }
   }
   return step.finish();
+}
+
+void predict_blocks(const TriangleTopology& t, Scheme scheme, std::uint32_t block_rows,
+                    const std::function<void(const LiftingStep&)>& apply) {
+  if (scheme == Scheme::loop) throw std::invalid_argument("predict_blocks: linear or butterfly only");
+  const auto E = static_cast<std::uint32_t>(t.edge_count());
+  std::optional<ButterflyVertices> vertices;
+  if (scheme == Scheme::butterfly) vertices.emplace(t);
+  std::vector<std::uint32_t> buffer;
+  for (std::uint32_t begin = 0; begin < E; begin += block_rows) {
+    const std::uint32_t end = begin + std::min(block_rows, E - begin);
+    StepWriter step(t.vertex_count + begin, predict_arity(scheme) * (end - begin), std::move(buffer));
+    if (vertices)
+      butterfly_rows(step, t, *vertices, begin, end);
+    else
+      linear_rows(step, t, begin, end);
+    LiftingStep block = step.finish();
+    apply(block);
+    buffer = std::move(block.indices);
+  }
 }
 
 LiftingStep loop_update(const TriangleTopology& t) {

@@ -14,6 +14,14 @@ namespace meshlift::stencils {
 /// Synthesis adds the prediction to the stored detail: odd = detail + P(even).
 LiftingStep predict(const TriangleTopology& topology, Scheme scheme);
 
+/// The rows of predict(topology, scheme) for linear or butterfly, the same rows in the same
+/// order, as consecutive blocks of `block_rows` rows (one step per block, its targets
+/// consecutive), handed to `apply` one at a time in one reused buffer: applying each block as it
+/// comes is the synthesis of the whole step (its rows are independent), without its table in
+/// memory. \throw std::invalid_argument for Scheme::loop (loop_refined_blocks).
+void predict_blocks(const TriangleTopology& topology, Scheme scheme, std::uint32_t block_rows,
+                    const std::function<void(const LiftingStep&)>& apply);
+
 /// Loop's vertex rule written over the odd vertices (CODEC-NOTES §3): one row per even vertex,
 /// synthesis even' = s_n even + w_n sum(adjacent odd); boundary even' = even/2 + (odd_l + odd_r)/4.
 LiftingStep loop_update(const TriangleTopology& topology);
