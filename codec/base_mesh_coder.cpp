@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <tuple>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "meshlift/mesh.h"
 
@@ -51,6 +50,48 @@ namespace {
 
 std::uint64_t key(std::uint32_t u, std::uint32_t w) { return (std::uint64_t{u} << 32) | w; }
 
+/// A set of directed edges (keys), insert-only: open addressing with linear probing in one flat
+/// array, at most half full. The traversal asks it about every edge of every face, and
+/// std::unordered_set spent most of a base decode in allocating its nodes and chasing them.
+class EdgeSet {
+ public:
+  bool contains(std::uint64_t k) const {
+    if (size_ == 0) return false;
+    for (std::size_t i = slot(k);; i = (i + 1) & mask_) {
+      if (slots_[i] == k) return true;
+      if (slots_[i] == kEmpty) return false;
+    }
+  }
+  void insert(std::uint64_t k) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    for (std::size_t i = slot(k);; i = (i + 1) & mask_) {
+      if (slots_[i] == k) return;
+      if (slots_[i] == kEmpty) {
+        slots_[i] = k;
+        ++size_;
+        return;
+      }
+    }
+  }
+
+ private:
+  /// No edge has this key: vertex indices are below kNone.
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  std::size_t slot(std::uint64_t k) const {
+    return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 32) & mask_;  // Fibonacci hashing
+  }
+  void grow() {
+    std::vector<std::uint64_t> old = std::move(slots_);
+    slots_.assign(std::max<std::size_t>(64, 2 * old.size()), kEmpty);
+    mask_ = slots_.size() - 1;
+    size_ = 0;
+    for (const std::uint64_t k : old)
+      if (k != kEmpty) insert(k);
+  }
+  std::vector<std::uint64_t> slots_;
+  std::size_t mask_ = 0, size_ = 0;
+};
+
 /// What the previous gate turned out to be: the context of the next gate's symbols.
 enum Previous : int { kWasNew = 0, kWasRight = 1, kWasLeft = 2, kWasOther = 3 };
 
@@ -73,7 +114,7 @@ class Front {
   bool add_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const std::uint32_t corners[3] = {a, b, c};
     for (int i = 0; i < 3; ++i)
-      if (coded_.count(key(corners[i], corners[(i + 1) % 3]))) return false;
+      if (coded_.contains(key(corners[i], corners[(i + 1) % 3]))) return false;
     faces.insert(faces.end(), {a, b, c});
     ++faces_at_[a];
     ++faces_at_[b];
@@ -81,7 +122,7 @@ class Front {
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t u = corners[i], w = corners[(i + 1) % 3];
       coded_.insert(key(u, w));
-      if (coded_.count(key(w, u))) {
+      if (coded_.contains(key(w, u))) {
         erase(out_open_[w], u);
         erase(in_open_[u], w);
       } else {
@@ -97,7 +138,7 @@ class Front {
     while (!gates_.empty()) {
       const auto [u, w] = gates_.back();
       gates_.pop_back();
-      if (!coded_.count(key(w, u))) {
+      if (!coded_.contains(key(w, u))) {
         a = u;
         b = w;
         return true;
@@ -117,7 +158,7 @@ class Front {
   static void erase(std::vector<std::uint32_t>& v, std::uint32_t x) { v.erase(std::find(v.begin(), v.end(), x)); }
   std::vector<std::vector<std::uint32_t>> out_open_, in_open_;
   std::vector<std::uint32_t> faces_at_;
-  std::unordered_set<std::uint64_t> coded_;
+  EdgeSet coded_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> gates_;  // newest last
 };
 
@@ -237,9 +278,9 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
   };
   // Twins of gates declared boundary: no later face may run along one (the encoder declares a
   // gate boundary only when no face lies across it), so a stream that puts one there is corrupt.
-  std::unordered_set<std::uint64_t> boundary;
+  EdgeSet boundary;
   auto crosses_boundary = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    return boundary.count(key(x, y)) || boundary.count(key(y, z)) || boundary.count(key(z, x));
+    return boundary.contains(key(x, y)) || boundary.contains(key(y, z)) || boundary.contains(key(z, x));
   };
   int previous = kWasOther;
   while (front.faces.size() < 3 * std::size_t{face_count}) {

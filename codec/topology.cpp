@@ -36,21 +36,36 @@ TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<c
   struct Corner {
     std::uint32_t lo, hi, face, corner;
   };
+  // Sorted by (lo, hi, face), all keys distinct: a counting sort by lo (face order kept), then
+  // each vertex's few corners by (hi, face). (std::sort of all corners took most of a large
+  // base's build.)
+  std::vector<std::uint32_t> first_of(std::size_t{vertex_count} + 1, 0);
+  for (std::size_t c = 0; c < 3 * face_count; ++c) {
+    const std::uint32_t a = triangles[c], b = triangles[c - c % 3 + (c + 1) % 3];
+    ++first_of[std::size_t{std::min(a, b)} + 1];
+  }
+  for (std::uint32_t v = 0; v < vertex_count; ++v) first_of[v + 1] += first_of[v];
   std::vector<Corner> corners(3 * face_count);
-  for (std::uint32_t f = 0; f < face_count; ++f)
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t a = triangles[3 * f + i], b = triangles[3 * f + (i + 1) % 3];
-      corners[3 * f + i] = {std::min(a, b), std::max(a, b), f, i};
-    }
-  std::sort(corners.begin(), corners.end(), [](const Corner& x, const Corner& y) {
-    return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.face < y.face;
-  });
+  {
+    std::vector<std::uint32_t> fill(first_of.begin(), first_of.end() - 1);
+    for (std::uint32_t f = 0; f < face_count; ++f)
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        const std::uint32_t a = triangles[3 * f + i], b = triangles[3 * f + (i + 1) % 3];
+        corners[fill[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), f, i};
+      }
+  }
+  for (std::uint32_t v = 0; v < vertex_count; ++v)
+    std::sort(corners.begin() + first_of[v], corners.begin() + first_of[v + 1], [](const Corner& x, const Corner& y) {
+      return x.hi != y.hi ? x.hi < y.hi : x.face < y.face;
+    });
   t.face_edges.assign(3 * face_count, kNone);
+  t.edge_vertices.reserve(3 * face_count);  // exact for a closed mesh (E = 3F/2)
+  t.edge_faces.reserve(3 * face_count);
   for (std::size_t i = 0; i < corners.size();) {
     std::size_t j = i + 1;
     while (j < corners.size() && corners[j].lo == corners[i].lo && corners[j].hi == corners[i].hi) ++j;
-    const std::string where = "edge (" + std::to_string(corners[i].lo) + ", " + std::to_string(corners[i].hi) + ")";
-    if (j - i > 2) throw MeshError("non-manifold " + where + ": " + std::to_string(j - i) + " faces share it");
+    auto where = [&] { return "edge (" + std::to_string(corners[i].lo) + ", " + std::to_string(corners[i].hi) + ")"; };
+    if (j - i > 2) throw MeshError("non-manifold " + where() + ": " + std::to_string(j - i) + " faces share it");
     const auto e = static_cast<std::uint32_t>(t.edge_count());
     const Corner& first = corners[i];
     const std::uint32_t a = triangles[3 * first.face + first.corner];
@@ -61,7 +76,7 @@ TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<c
     if (j - i == 2) {
       const Corner& second = corners[i + 1];
       if (triangles[3 * second.face + second.corner] == a)
-        throw MeshError("inconsistent orientation at " + where + ": faces " + std::to_string(first.face) +
+        throw MeshError("inconsistent orientation at " + where() + ": faces " + std::to_string(first.face) +
                         " and " + std::to_string(second.face) + " run it the same way");
       t.edge_faces[2 * e + 1] = second.face;
       t.face_edges[3 * second.face + second.corner] = e;
