@@ -1,12 +1,15 @@
 // Puts a semi-regular mesh in the order its stream decodes to (codec.h): base faces and vertices
 // in the traversal order of the base mesh coder (base_mesh_coder.h), the finer levels renumbered
 // to follow. Faces map to faces by the refinement rule, so no geometric search is needed.
+#include "canonical_order.h"
+
 #include "base_mesh_coder.h"
+#include "large_array.h"
 #include "meshlift/codec.h"
 
 namespace meshlift {
 
-SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
+CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree) {
   const SemiRegularHierarchy& old = mesh.hierarchy;
   const int L = old.levels();
   const std::size_t V = old.vertex_count(L);
@@ -24,14 +27,16 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
   for (std::size_t k = 0; k < F; ++k)
     for (std::uint32_t i = 0; i < 3; ++i)
       base[3 * k + i] = order.label[old_base[3 * order.face[k] + (i + order.rotation[k]) % 3]];
-  SemiRegularMesh out{SemiRegularHierarchy(TriangleTopology::build(old.vertex_count(0), base), L), {}, {}};
+  CanonicalHierarchy out{
+      SemiRegularHierarchy(TriangleTopology::build(old.vertex_count(0), base), L, finest_triangles, coefficient_tree), {}};
   const SemiRegularHierarchy& h = out.hierarchy;
 
   // old_vertex[v]: the old index of new vertex v, level by level. Face k of level j is old face
   // face_map[k] turned by turn[k]; its corner edge i is old corner edge (i + turn) % 3, so their
   // odd vertices correspond. Refinement: new children 4k + i (i < 3) are old 4f + (i + t) % 3
   // unturned, the centre 4k + 3 is old 4f + 3 turned by t.
-  std::vector<std::uint32_t> old_vertex(h.vertex_count(L));
+  std::vector<std::uint32_t>& old_vertex = out.old_vertex;
+  assign_large(old_vertex, h.vertex_count(L));
   for (std::uint32_t v = 0; v < old.vertex_count(0); ++v) old_vertex[order.label[v]] = v;
   std::vector<std::uint32_t> face_map = order.face, turn = order.rotation;
   for (int j = 0; j < L; ++j) {
@@ -53,6 +58,12 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
     face_map = std::move(next_map);
     turn = std::move(next_turn);
   }
+  return out;
+}
+
+SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
+  CanonicalHierarchy canonical = canonical_hierarchy(mesh, true, true);
+  const std::vector<std::uint32_t>& old_vertex = canonical.old_vertex;
   auto reorder = [&](const std::vector<double>& values, int components) {
     const std::size_t k = static_cast<std::size_t>(components);
     std::vector<double> ordered(values.size());
@@ -60,7 +71,7 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
       for (std::size_t c = 0; c < k; ++c) ordered[k * v + c] = values[k * std::size_t{old_vertex[v]} + c];
     return ordered;
   };
-  out.positions = reorder(mesh.positions, 3);
+  SemiRegularMesh out{std::move(canonical.hierarchy), reorder(mesh.positions, 3), {}};
   for (const VertexChannel& channel : mesh.channels) out.channels.push_back({channel.components, reorder(channel.values, channel.components)});
   return out;
 }

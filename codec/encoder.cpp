@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base_mesh_coder.h"
+#include "canonical_order.h"
 #include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
@@ -79,8 +80,11 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   for (std::uint32_t v : given.triangles(0)) used[v] = 1;
   if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
 
-  const SemiRegularMesh mesh = canonical_order(input);  // also checks the array sizes
-  const SemiRegularHierarchy& h = mesh.hierarchy;
+  // The canonical order as a renumbering, read through: no reordered copy of the positions, and
+  // a hierarchy without the finest faces and the coefficient tree (nothing here reads them).
+  const CanonicalHierarchy canonical = canonical_hierarchy(input, false, false);  // also checks the array sizes
+  const SemiRegularHierarchy& h = canonical.hierarchy;
+  const std::vector<std::uint32_t>& old_vertex = canonical.old_vertex;
   const int L = h.levels();
 
   StreamHeader header;
@@ -91,28 +95,53 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   header.base_faces = static_cast<std::uint32_t>(h.topology(0).face_count());
   header.local_frames = options.local_frames;
   header.tangent_shift = options.local_frames ? options.tangent_shift : 0;
+
+  // The values to analyze, K per vertex (geometry, then the channels), in canonical order: first
+  // as given, then centred below. Huge pages where offered (large_array.h), as the arrays below.
+  const int K = 3 + [&] {
+    int n = 0;
+    for (const VertexChannel& c : input.channels) n += c.components;
+    return n;
+  }();
+  const std::size_t k_stride = static_cast<std::size_t>(K);
+  std::vector<double> values;
+  assign_large(values, std::size_t{V} * k_stride);
+  for (std::uint32_t v = 0; v < V; ++v) {
+    double* out = &values[k_stride * v];
+    const std::size_t old = old_vertex[v];
+    for (int k = 0; k < 3; ++k) *out++ = input.positions[3 * old + static_cast<std::size_t>(k)];
+    for (const VertexChannel& c : input.channels) {
+      const std::size_t n = static_cast<std::size_t>(c.components);
+      for (std::size_t k = 0; k < n; ++k) *out++ = c.values[n * old + k];
+    }
+  }
+  // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
+  // diagonal as bounding_box_diagonal computes it from the same extremes).
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
-    lo[k] = hi[k] = mesh.positions[k];
+    lo[k] = hi[k] = values[static_cast<std::size_t>(k)];
     for (std::uint32_t v = 0; v < V; ++v) {
-      lo[k] = std::min(lo[k], mesh.positions[3 * v + k]);
-      hi[k] = std::max(hi[k], mesh.positions[3 * v + k]);
+      lo[k] = std::min(lo[k], values[k_stride * v + static_cast<std::size_t>(k)]);
+      hi[k] = std::max(hi[k], values[k_stride * v + static_cast<std::size_t>(k)]);
     }
     header.center[k] = 0.5 * (lo[k] + hi[k]);
   }
-  double diagonal = bounding_box_diagonal(mesh.positions);
+  double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                              (hi[2] - lo[2]) * (hi[2] - lo[2]));
   if (!(diagonal > 0)) diagonal = 1.0;
   header.step = std::ldexp(diagonal, -options.precision_bits);
   // Each channel: centred on the middle of each component's range, one step for all its
   // components from the widest range.
-  for (const VertexChannel& c : mesh.channels) {
+  std::size_t offset = 3;
+  for (const VertexChannel& c : input.channels) {
     ChannelQuantization hc;
     hc.components = c.components;
     double range = 0;
     for (int k = 0; k < c.components; ++k) {
-      double low = c.values[static_cast<std::size_t>(k)], high = low;
+      const std::size_t i = offset + static_cast<std::size_t>(k);
+      double low = values[i], high = low;
       for (std::uint32_t v = 0; v < V; ++v) {
-        const double x = c.values[std::size_t{v} * static_cast<std::size_t>(c.components) + static_cast<std::size_t>(k)];
+        const double x = values[k_stride * v + i];
         low = std::min(low, x);
         high = std::max(high, x);
       }
@@ -121,23 +150,15 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     }
     hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
     header.channels.push_back(std::move(hc));
+    offset += static_cast<std::size_t>(c.components);
   }
 
-  // Analysis of the centred values, K per vertex (geometry, then the channels): base values at
-  // [0, V0), details at the odd vertices.
-  const int K = header.components();
-  const std::size_t k_stride = static_cast<std::size_t>(K);
+  // Analysis of the centred values: base values at [0, V0), details at the odd vertices.
+  std::vector<double> centre(header.center.begin(), header.center.end());
+  for (const ChannelQuantization& c : header.channels) centre.insert(centre.end(), c.center.begin(), c.center.end());
+  for (std::uint32_t v = 0; v < V; ++v)
+    for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
   const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
-  std::vector<double> values;  // huge pages where offered (large_array.h), as the arrays below
-  assign_large(values, std::size_t{V} * k_stride);
-  for (std::uint32_t v = 0; v < V; ++v) {
-    double* out = &values[k_stride * v];
-    for (int k = 0; k < 3; ++k) *out++ = mesh.positions[3 * v + k] - header.center[k];
-    for (std::size_t c = 0; c < mesh.channels.size(); ++c) {
-      const std::size_t n = static_cast<std::size_t>(mesh.channels[c].components);
-      for (std::size_t k = 0; k < n; ++k) *out++ = mesh.channels[c].values[n * v + k] - header.channels[c].center[k];
-    }
-  }
   transform.analyze(values, K);
   // The closed loop's reconstruction (local frames; each value written again before it is read)
   // or a scratch array of the same size holds the level weights' impulse responses, K at a time.
