@@ -23,29 +23,135 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// coefficient at a vertex in the middle of the level's range, synthesized to the finest level.
 /// Scaling level j's coefficients by it makes one quantization step cost the same squared error
 /// at every level.
-/// The impulses of `channels` levels at a time are synthesized together, one per channel, in
-/// `buffer` (vertex_count(L) * channels doubles, overwritten): a channel's values are computed by
-/// the same operations whatever the channel count (lifting.cpp), so each norm has the bits of its
-/// own one-channel synthesis, while the tables and a vertex's values are read once for all.
+///
+/// Each impulse is synthesized over its support only, which is a small part of the finest level:
+/// a row of a lifting step whose target and sources are all zero gives +0 (its scale is positive),
+/// which is what an untouched zero holds, and zeros add nothing to the sum of squares; so
+/// computing exactly the rows that can be nonzero, each by the operations synthesize() applies
+/// (lifting.cpp: scale * target first, then the sources in table order), gives the norm's bits.
+/// A row can be nonzero only if its target or one of its sources is. Every predict row's sources
+/// lie within one edge of an endpoint of its edge (linear: the endpoints; Loop: the wing
+/// vertices; butterfly: wings, tips across the wing edges, an extraordinary endpoint's ring,
+/// boundary neighbours), so the rows to compute are those of the edges at the live vertices and
+/// at their neighbours; an update row's sources are the odd vertices on its vertex's edges, so
+/// those are the endpoints of live odd vertices' edges and the live even vertices themselves.
+/// `buffer` holds at least vertex_count(L) zeros and is left holding zeros.
 std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform,
-                                  std::span<double> buffer, int channels) {
+                                  std::span<double> buffer) {
   const int L = h.levels();
-  const std::size_t V = h.vertex_count(L), k = static_cast<std::size_t>(channels);
-  const std::span<double> values = buffer.first(V * k);
   std::vector<double> weights(static_cast<std::size_t>(L) + 1);
-  for (int first = 0; first <= L; first += channels) {
-    const int count = std::min(channels, L + 1 - first);
-    std::fill(values.begin(), values.end(), 0.0);
-    for (int c = 0; c < count; ++c) {
-      const int j = first + c;
-      const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
-      values[k * (begin + (h.vertex_count(j) - begin) / 2) + static_cast<std::size_t>(c)] = 1.0;
+  // Per step, where each run's rows start in its row order and in its index table.
+  struct RunStarts {
+    std::vector<std::uint32_t> row;
+    std::vector<std::size_t> index;
+  };
+  std::vector<std::vector<RunStarts>> starts(static_cast<std::size_t>(L));
+  std::vector<VertexEdges> edges;
+  std::size_t most_rows = 0;
+  for (int i = 0; i < L; ++i) {
+    edges.emplace_back(h.topology(i));
+    for (const LiftingStep& step : transform.steps(i)) {
+      RunStarts r;
+      std::uint32_t row = 0;
+      std::size_t index = 0;
+      for (const LiftingStep::Run& run : step.runs) {
+        r.row.push_back(row);
+        r.index.push_back(index);
+        row += run.rows;
+        index += std::size_t{run.rows} * step.patterns[run.pattern].arity;
+      }
+      r.row.push_back(row);
+      most_rows = std::max<std::size_t>(most_rows, row);
+      starts[static_cast<std::size_t>(i)].push_back(std::move(r));
     }
-    transform.synthesize(values, channels);
-    std::vector<double> sum(k, 0.0);
-    for (std::size_t v = 0; v < V; ++v)
-      for (std::size_t c = 0; c < k; ++c) sum[c] += values[k * v + c] * values[k * v + c];
-    for (int c = 0; c < count; ++c) weights[static_cast<std::size_t>(first + c)] = std::sqrt(sum[static_cast<std::size_t>(c)]);
+  }
+  double* x = buffer.data();
+  const std::uint32_t V_L = h.vertex_count(L);
+  std::vector<std::uint8_t> is_live(V_L, 0), is_near(V_L, 0), is_candidate(most_rows, 0);
+  std::vector<std::uint32_t> live, near, candidates;
+  auto make_live = [&](std::uint32_t v) {
+    if (!is_live[v]) is_live[v] = 1, live.push_back(v);
+  };
+  // Calls f(v) for the marked entries v of `marks` listed in `list`, in increasing order, clearing
+  // their marks: by a sweep over the marks when the list is long, else by sorting it.
+  auto in_order = [](std::vector<std::uint8_t>& marks, std::vector<std::uint32_t>& list, std::size_t n, auto&& f) {
+    if (list.size() * 32 > n) {
+      for (std::uint32_t v = 0; v < n; ++v)
+        if (marks[v]) marks[v] = 0, f(v);
+    } else {
+      std::sort(list.begin(), list.end());
+      for (const std::uint32_t v : list) marks[v] = 0, f(v);
+    }
+    list.clear();
+  };
+  for (int j = 0; j <= L; ++j) {
+    const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
+    x[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
+    make_live(begin + (h.vertex_count(j) - begin) / 2);
+    for (int i = std::max(0, j - 1); i < L; ++i) {
+      const VertexEdges& ve = edges[static_cast<std::size_t>(i)];
+      const TriangleTopology& t = h.topology(i);
+      const std::uint32_t V = h.vertex_count(i), fine_V = h.vertex_count(i + 1);
+      for (std::size_t s = 0; s < transform.steps(i).size(); ++s) {
+        const LiftingStep& step = transform.steps(i)[s];
+        const RunStarts& r = starts[static_cast<std::size_t>(i)][s];
+        auto candidate = [&](std::uint32_t target) {
+          const std::uint32_t row = target - step.first_target;
+          if (!is_candidate[row]) is_candidate[row] = 1, candidates.push_back(row);
+        };
+        if (step.first_target == V) {  // predict: targets are the odd vertices V + e
+          // The live even vertices and their neighbours, then the edges at them.
+          auto make_near = [&](std::uint32_t v) {
+            if (!is_near[v]) is_near[v] = 1, near.push_back(v);
+          };
+          for (const std::uint32_t u : live) {
+            if (u >= V) {
+              if (u < fine_V) candidate(u);
+              continue;
+            }
+            make_near(u);
+            for (std::uint32_t a = ve.offsets[u]; a < ve.offsets[u + 1]; ++a) {
+              const std::uint32_t e = ve.edges[a];
+              make_near(t.edge_vertices[2 * e] == u ? t.edge_vertices[2 * e + 1] : t.edge_vertices[2 * e]);
+            }
+          }
+          for (const std::uint32_t w : near) {
+            is_near[w] = 0;
+            for (std::uint32_t b = ve.offsets[w]; b < ve.offsets[w + 1]; ++b) candidate(V + ve.edges[b]);
+          }
+          near.clear();
+        } else {  // update: targets are the even vertices
+          for (const std::uint32_t u : live) {
+            if (u < V) {
+              candidate(u);
+            } else if (u < fine_V) {
+              candidate(t.edge_vertices[2 * (u - V)]);
+              candidate(t.edge_vertices[2 * (u - V) + 1]);
+            }
+          }
+        }
+        // The candidate rows in row order, each as synthesize_run computes it for one channel.
+        std::size_t run = 0;
+        in_order(is_candidate, candidates, step.rows(), [&](std::uint32_t row) {
+          while (r.row[run + 1] <= row) ++run;
+          const LiftingStep::Pattern& p = step.patterns[step.runs[run].pattern];
+          const double* w = step.pattern_weights.data() + p.first_weight;
+          const std::uint32_t* source = step.indices.data() + r.index[run] + std::size_t{row - r.row[run]} * p.arity;
+          const std::uint32_t target = step.first_target + row;
+          double acc = p.scale * x[target];
+          for (std::uint32_t k = 0; k < p.arity; ++k) acc += w[k] * x[source[k]];
+          x[target] = acc;
+          make_live(target);
+        });
+      }
+    }
+    // The sum of squares in vertex order, over the vertices that may be nonzero.
+    double sum = 0.0;
+    in_order(is_live, live, V_L, [&](std::uint32_t v) {
+      sum += x[v] * x[v];
+      x[v] = 0.0;
+    });
+    weights[static_cast<std::size_t>(j)] = std::sqrt(sum);
   }
   return weights;
 }
@@ -164,7 +270,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // or a scratch array of the same size holds the level weights' impulse responses, K at a time.
   std::vector<double> decoded;
   assign_large(decoded, values.size());
-  header.level_weights = level_weights(h, transform, decoded, K);
+  header.level_weights = level_weights(h, transform, decoded);
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
