@@ -150,10 +150,17 @@ bool closest_point_callback(RTCPointQueryFunctionArguments* args) {
   auto& state = *static_cast<QueryState*>(args->userPtr);
   const std::uint32_t face = args->primID;
   const TriangleMesh& mesh = *state.mesh;
-  const TrianglePoint candidate =
-      closest_point_on_triangle(state.p, vertex(mesh, mesh.triangles[3 * std::size_t(face)]),
-                                vertex(mesh, mesh.triangles[3 * std::size_t(face) + 1]),
-                                vertex(mesh, mesh.triangles[3 * std::size_t(face) + 2]));
+  const Vec3 a = vertex(mesh, mesh.triangles[3 * std::size_t(face)]), b = vertex(mesh, mesh.triangles[3 * std::size_t(face) + 1]),
+             c = vertex(mesh, mesh.triangles[3 * std::size_t(face) + 2]);
+  // The triangle's bounding box is no nearer than the triangle: when even the box is farther
+  // than the best point so far, the exact test cannot win (Embree only culls whole leaves).
+  double box_distance2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double gap = std::max({std::min({a[k], b[k], c[k]}) - state.p[k], state.p[k] - std::max({a[k], b[k], c[k]}), 0.0});
+    box_distance2 += gap * gap;
+  }
+  if (box_distance2 > state.best_distance2) return false;
+  const TrianglePoint candidate = closest_point_on_triangle(state.p, a, b, c);
   const double distance2 = squared_distance(state.p, candidate.point);
   // Ties go to the lowest face index, whatever order the BVH visits faces in.
   if (distance2 < state.best_distance2 || (distance2 == state.best_distance2 && face < state.best.face)) {
