@@ -72,7 +72,12 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   SurfaceFitOptions fit_options;
   fit_options.progress = [&](double f) { report(0.2 + 0.5 * f); };
   fit_to_surface(result_mesh, guide, surface, fit_options);
-  untangle(result_mesh, surface);
+  // Patches only: the least-squares rounds move every vertex again, and per-vertex moves made
+  // before them shifted their result for no fewer folds after (camel -0.3 dB).
+  UntangleOptions patches_only;
+  patches_only.vertex_passes = 0;
+  patches_only.rounds = 1;
+  untangle(result_mesh, surface, patches_only);
   report(0.75);
   LeastSquaresFitOptions least_squares;
   least_squares.iterations = least_squares_rounds;

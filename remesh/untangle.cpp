@@ -6,6 +6,8 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -29,11 +31,58 @@ Vec unit(Vec v) {
   return v;
 }
 
+/// One linear function of a 2-D offset d: g·d + h.
+struct Linear2 {
+  double g[2], h;
+  double at(const double d[2]) const { return g[0] * d[0] + g[1] * d[1] + h; }
+};
+
+/// The offset d with |d_0|, |d_1| <= box that maximizes min_f (g_f·d + h_f), and that minimum:
+/// a linear program in (d, t) whose optimum lies where three of its constraints are tight,
+/// t = g_f·d + h_f for three faces, for two and a side of the box, or for one and a corner. With
+/// a vertex's valence of faces there are a few hundred such points; all are tried.
+std::pair<std::array<double, 2>, double> max_min_offset(const std::vector<Linear2>& faces, double box) {
+  auto worst = [&](const double d[2]) {
+    double t = faces[0].at(d);
+    for (const Linear2& f : faces) t = std::min(t, f.at(d));
+    return t;
+  };
+  std::array<double, 2> best{0, 0};
+  double best_t = worst(best.data());
+  auto consider = [&](double u, double w) {
+    if (!(std::abs(u) <= box * (1 + 1e-12) && std::abs(w) <= box * (1 + 1e-12))) return;
+    const double d[2] = {u, w};
+    const double t = worst(d);
+    if (t > best_t) best_t = t, best = {u, w};
+  };
+  const std::size_t k = faces.size();
+  for (double u : {-box, box})
+    for (double w : {-box, box}) consider(u, w);
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = i + 1; j < k; ++j) {
+      // g_i·d + h_i = g_j·d + h_j with one coordinate on a side of the box.
+      const double a = faces[i].g[0] - faces[j].g[0], b = faces[i].g[1] - faces[j].g[1], c = faces[j].h - faces[i].h;
+      for (double side : {-box, box}) {
+        if (b != 0) consider(side, (c - a * side) / b);
+        if (a != 0) consider((c - b * side) / a, side);
+      }
+      // ... and with a third face.
+      for (std::size_t l = j + 1; l < k; ++l) {
+        const double a2 = faces[i].g[0] - faces[l].g[0], b2 = faces[i].g[1] - faces[l].g[1], c2 = faces[l].h - faces[i].h;
+        const double det = a * b2 - b * a2;
+        if (det != 0) consider((c * b2 - b * c2) / det, (a * c2 - c * a2) / det);
+      }
+    }
+  return {best, best_t};
+}
+
 }  // namespace
 
 UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options) {
-  if (options.first_rings < 1 || options.max_rings < options.first_rings || options.passes < 0)
-    throw std::invalid_argument("untangle: first_rings >= 1, max_rings >= first_rings, passes >= 0");
+  if (options.first_rings < 1 || options.max_rings < options.first_rings || options.passes < 0 || options.vertex_passes < 0 ||
+      options.rounds < 1)
+    throw std::invalid_argument(
+        "untangle: first_rings >= 1, max_rings >= first_rings, passes >= 0, vertex_passes >= 0, rounds >= 1");
   UntangleReport report;
   const SemiRegularHierarchy& h = mesh.hierarchy;
   const std::vector<std::uint32_t>& triangles = h.triangles(h.levels());
@@ -74,138 +123,226 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
 
   std::vector<std::uint32_t> stamp(faces, 0), vertex_stamp(n, 0), local(n, kNone);
   std::uint32_t generation = 0;
-  for (int pass = 0; pass < options.passes; ++pass) {
-    std::size_t kept_this_pass = 0;
-    std::vector<std::uint8_t> seen(faces, 0);
-    for (std::size_t seed = 0; seed < faces; ++seed) {
-      if (!folded[seed] || seen[seed]) continue;
-      // The patch: folded faces connected to `seed` through shared vertices.
-      std::vector<std::uint32_t> patch{static_cast<std::uint32_t>(seed)};
-      seen[seed] = 1;
-      for (std::size_t i = 0; i < patch.size(); ++i)
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t v = triangles[3 * std::size_t{patch[i]} + k];
-          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
-            if (folded[incident[j]] && !seen[incident[j]]) seen[incident[j]] = 1, patch.push_back(incident[j]);
-        }
-
-      for (int rings = options.first_rings; rings <= options.max_rings; rings += (rings + 1) / 2) {
-        // The region: the patch grown by `rings` rings of faces.
-        ++generation;
-        std::vector<std::uint32_t> region = patch;
-        for (std::uint32_t f : region) stamp[f] = generation;
-        for (int r = 0, begin = 0; r < rings; ++r) {
-          const int end = static_cast<int>(region.size());
-          for (int i = begin; i < end; ++i)
-            for (int k = 0; k < 3; ++k) {
-              const std::uint32_t v = triangles[3 * std::size_t{region[i]} + k];
-              for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
-                if (stamp[incident[j]] != generation) stamp[incident[j]] = generation, region.push_back(incident[j]);
-            }
-          begin = end;
-        }
-        // Inner vertices: every face around them is in the region; the rest of the region's
-        // vertices form its rim and stay.
-        std::vector<std::uint32_t> vertices, inner;
-        for (std::uint32_t f : region)
+  // First, patch by patch.
+  auto patch_passes = [&] {
+    for (int pass = 0; pass < options.passes; ++pass) {
+      std::size_t kept_this_pass = 0;
+      std::vector<std::uint8_t> seen(faces, 0);
+      for (std::size_t seed = 0; seed < faces; ++seed) {
+        if (!folded[seed] || seen[seed]) continue;
+        // The patch: folded faces connected to `seed` through shared vertices.
+        std::vector<std::uint32_t> patch{static_cast<std::uint32_t>(seed)};
+        seen[seed] = 1;
+        for (std::size_t i = 0; i < patch.size(); ++i)
           for (int k = 0; k < 3; ++k) {
-            const std::uint32_t v = triangles[3 * std::size_t{f} + k];
-            if (vertex_stamp[v] == generation) continue;
-            vertex_stamp[v] = generation;
-            vertices.push_back(v);
-            bool all_in = !adjacency.on_boundary(v);
-            for (std::uint32_t j = offsets[v]; all_in && j < offsets[v + 1]; ++j) all_in = stamp[incident[j]] == generation;
-            if (all_in) local[v] = static_cast<std::uint32_t>(inner.size()), inner.push_back(v);
-            else local[v] = kNone;
+            const std::uint32_t v = triangles[3 * std::size_t{patch[i]} + k];
+            for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+              if (folded[incident[j]] && !seen[incident[j]]) seen[incident[j]] = 1, patch.push_back(incident[j]);
           }
-        if (inner.empty()) continue;
 
-        // The plane: the mean input normal over the region (by the closest points of its
-        // face centroids) through the mean of its vertices.
-        Vec normal{0, 0, 0}, origin{0, 0, 0};
-        for (std::uint32_t f : region) {
-          const Vec m = input_normal(surface.closest(centroid(f)).face);
-          for (int c = 0; c < 3; ++c) normal[c] += m[c];
-        }
-        normal = unit(normal);
-        if (dot(normal, normal) == 0) break;
-        for (std::uint32_t v : vertices)
-          for (int c = 0; c < 3; ++c) origin[c] += x[3 * v + c] / static_cast<double>(vertices.size());
-
-        // Tutte's barycentric mapping: every inner vertex at the mean of its neighbours, the rim
-        // fixed. The map is linear, so solving it on the world coordinates (relative to the
-        // origin) gives, projected on the plane, the planar Tutte embedding of the projected rim,
-        // and along the normal a harmonic height. With uniform weights the system is the graph
-        // Laplacian restricted to the inner vertices: symmetric positive definite.
-        std::vector<Eigen::Triplet<double>> entries;
-        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 3);
-        double radius = 0;
-        for (std::uint32_t i = 0; i < inner.size(); ++i) {
-          const std::uint32_t v = inner[i];
-          const std::uint32_t first = adjacency.neighbour_offsets[v], end = adjacency.neighbour_offsets[v + 1];
-          entries.emplace_back(i, i, static_cast<double>(end - first));
-          for (std::uint32_t k = first; k < end; ++k) {
-            const std::uint32_t w = adjacency.neighbours[k];
-            if (local[w] != kNone) {
-              entries.emplace_back(i, local[w], -1.0);
-            } else {
-              const Vec d = sub(at(x, w), origin);
-              for (int c = 0; c < 3; ++c) rhs(i, c) += d[c];
+        for (int rings = options.first_rings; rings <= options.max_rings; rings += (rings + 1) / 2) {
+          // The region: the patch grown by `rings` rings of faces.
+          ++generation;
+          std::vector<std::uint32_t> region = patch;
+          for (std::uint32_t f : region) stamp[f] = generation;
+          for (int r = 0, begin = 0; r < rings; ++r) {
+            const int end = static_cast<int>(region.size());
+            for (int i = begin; i < end; ++i)
+              for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = triangles[3 * std::size_t{region[i]} + k];
+                for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+                  if (stamp[incident[j]] != generation) stamp[incident[j]] = generation, region.push_back(incident[j]);
+              }
+            begin = end;
+          }
+          // Inner vertices: every face around them is in the region; the rest of the region's
+          // vertices form its rim and stay.
+          std::vector<std::uint32_t> vertices, inner;
+          for (std::uint32_t f : region)
+            for (int k = 0; k < 3; ++k) {
+              const std::uint32_t v = triangles[3 * std::size_t{f} + k];
+              if (vertex_stamp[v] == generation) continue;
+              vertex_stamp[v] = generation;
+              vertices.push_back(v);
+              bool all_in = !adjacency.on_boundary(v);
+              for (std::uint32_t j = offsets[v]; all_in && j < offsets[v + 1]; ++j) all_in = stamp[incident[j]] == generation;
+              if (all_in) local[v] = static_cast<std::uint32_t>(inner.size()), inner.push_back(v);
+              else local[v] = kNone;
             }
-          }
-          const Vec d = sub(at(x, v), origin);
-          radius = std::max(radius, std::sqrt(dot(d, d)));
-        }
-        Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(inner.size()), static_cast<Eigen::Index>(inner.size()));
-        laplacian.setFromTriplets(entries.begin(), entries.end());
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
-        if (solver.info() != Eigen::Success) continue;
-        const Eigen::MatrixXd mapped = solver.solve(rhs);
+          if (inner.empty()) continue;
 
-        // Lift each inner vertex back onto the input: along the plane's normal (the nearer hit on
-        // a face facing the same way within the region's radius), or, second try, to the closest
-        // point (a patch around a thin tube has no plane, but the harmonic map shrinks it
-        // towards the axis and the closest points spread it back around in order).
-        std::vector<double> saved(3 * inner.size());
-        for (std::uint32_t i = 0; i < inner.size(); ++i)
-          for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
-        bool kept = false;
-        for (int lift = 0; lift < 2 && !kept; ++lift) {
+          // The plane: the mean input normal over the region (by the closest points of its
+          // face centroids) through the mean of its vertices.
+          Vec normal{0, 0, 0}, origin{0, 0, 0};
+          for (std::uint32_t f : region) {
+            const Vec m = input_normal(surface.closest(centroid(f)).face);
+            for (int c = 0; c < 3; ++c) normal[c] += m[c];
+          }
+          normal = unit(normal);
+          if (dot(normal, normal) == 0) break;
+          for (std::uint32_t v : vertices)
+            for (int c = 0; c < 3; ++c) origin[c] += x[3 * v + c] / static_cast<double>(vertices.size());
+
+          // Tutte's barycentric mapping: every inner vertex at the mean of its neighbours, the rim
+          // fixed. The map is linear, so solving it on the world coordinates (relative to the
+          // origin) gives, projected on the plane, the planar Tutte embedding of the projected rim,
+          // and along the normal a harmonic height. With uniform weights the system is the graph
+          // Laplacian restricted to the inner vertices: symmetric positive definite.
+          std::vector<Eigen::Triplet<double>> entries;
+          Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 3);
+          double radius = 0;
           for (std::uint32_t i = 0; i < inner.size(); ++i) {
             const std::uint32_t v = inner[i];
-            const Vec p{origin[0] + mapped(i, 0), origin[1] + mapped(i, 1), origin[2] + mapped(i, 2)};
-            SurfacePoint best;
-            for (double sign : {1.0, -1.0}) {
-              if (lift == 1 || !(radius > 0)) break;
-              const SurfacePoint hit = surface.first_hit(p, {sign * normal[0], sign * normal[1], sign * normal[2]}, 2 * radius);
-              if (hit.face != kNone && dot(input_normal(hit.face), normal) > 0 && (best.face == kNone || hit.distance < best.distance))
-                best = hit;
+            const std::uint32_t first = adjacency.neighbour_offsets[v], end = adjacency.neighbour_offsets[v + 1];
+            entries.emplace_back(i, i, static_cast<double>(end - first));
+            for (std::uint32_t k = first; k < end; ++k) {
+              const std::uint32_t w = adjacency.neighbours[k];
+              if (local[w] != kNone) {
+                entries.emplace_back(i, local[w], -1.0);
+              } else {
+                const Vec d = sub(at(x, w), origin);
+                for (int c = 0; c < 3; ++c) rhs(i, c) += d[c];
+              }
             }
-            if (best.face == kNone) best = surface.closest(p);
-            for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
+            const Vec d = sub(at(x, v), origin);
+            radius = std::max(radius, std::sqrt(dot(d, d)));
           }
-          // Keep the new patch only if it has fewer folded faces than the old one.
-          std::size_t before = 0, after = 0;
-          std::vector<std::uint8_t> now(region.size());
-          for (std::size_t i = 0; i < region.size(); ++i) {
-            before += folded[region[i]];
-            now[i] = is_folded(region[i]);
-            after += now[i];
+          Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(inner.size()), static_cast<Eigen::Index>(inner.size()));
+          laplacian.setFromTriplets(entries.begin(), entries.end());
+          Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+          if (solver.info() != Eigen::Success) continue;
+          const Eigen::MatrixXd mapped = solver.solve(rhs);
+
+          // Lift each inner vertex back onto the input: along the plane's normal (the nearer hit on
+          // a face facing the same way within the region's radius), or, second try, to the closest
+          // point (a patch around a thin tube has no plane, but the harmonic map shrinks it
+          // towards the axis and the closest points spread it back around in order).
+          std::vector<double> saved(3 * inner.size());
+          for (std::uint32_t i = 0; i < inner.size(); ++i)
+            for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
+          bool kept = false;
+          for (int lift = 0; lift < 2 && !kept; ++lift) {
+            for (std::uint32_t i = 0; i < inner.size(); ++i) {
+              const std::uint32_t v = inner[i];
+              const Vec p{origin[0] + mapped(i, 0), origin[1] + mapped(i, 1), origin[2] + mapped(i, 2)};
+              SurfacePoint best;
+              for (double sign : {1.0, -1.0}) {
+                if (lift == 1 || !(radius > 0)) break;
+                const SurfacePoint hit = surface.first_hit(p, {sign * normal[0], sign * normal[1], sign * normal[2]}, 2 * radius);
+                if (hit.face != kNone && dot(input_normal(hit.face), normal) > 0 && (best.face == kNone || hit.distance < best.distance))
+                  best = hit;
+              }
+              if (best.face == kNone) best = surface.closest(p);
+              for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
+            }
+            // Keep the new patch only if it has fewer folded faces than the old one.
+            std::size_t before = 0, after = 0;
+            std::vector<std::uint8_t> now(region.size());
+            for (std::size_t i = 0; i < region.size(); ++i) {
+              before += folded[region[i]];
+              now[i] = is_folded(region[i]);
+              after += now[i];
+            }
+            ++report.patches_tried;
+            if (after < before) {
+              for (std::size_t i = 0; i < region.size(); ++i) folded[region[i]] = now[i];
+              ++report.patches_kept, ++kept_this_pass;
+              kept = true;
+            } else {
+              for (std::uint32_t i = 0; i < inner.size(); ++i)
+                for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = saved[3 * i + c];
+            }
           }
-          ++report.patches_tried;
-          if (after < before) {
-            for (std::size_t i = 0; i < region.size(); ++i) folded[region[i]] = now[i];
-            ++report.patches_kept, ++kept_this_pass;
-            kept = true;
-          } else {
-            for (std::uint32_t i = 0; i < inner.size(); ++i)
-              for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = saved[3 * i + c];
-          }
+          if (kept) break;
         }
-        if (kept) break;
       }
+      if (kept_this_pass == 0) break;
     }
-    if (kept_this_pass == 0) break;
+  };
+
+  // Second, vertex by vertex, what the patches left (Freitag and Plassmann 2000, local
+  // optimization-based untangling): each free vertex of a folded face moves, in the input's
+  // tangent plane at it, to the point that maximizes the smallest signed area of its faces.
+  // For a fixed normal n, a face (p, b, c) has the signed area ½ n·((b − p) × (c − p)),
+  // linear in p: with B = b − x, C = c − x and p = x + d, it is
+  //   ½ n·(B × C) + ½ d·(n × (C − B)),
+  // so the best point is a small linear program (max_min_offset). The vertex goes there or to
+  // the input's closest point to there, whichever leaves fewer of its faces folded, and only if
+  // that is fewer than now, or as many with a larger smallest area. Returns the moves kept.
+  auto vertex_passes = [&] {
+    std::size_t moved_in_all = 0;
+    for (int pass = 0; pass < options.vertex_passes && std::count(folded.begin(), folded.end(), 1) != 0; ++pass) {
+      std::vector<std::uint32_t> candidates;
+      for (std::size_t f = 0; f < faces; ++f)
+        if (folded[f])
+          for (int k = 0; k < 3; ++k)
+            if (!adjacency.on_boundary(triangles[3 * f + k])) candidates.push_back(triangles[3 * f + k]);
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      std::size_t moved = 0;
+      for (std::uint32_t v : candidates) {
+        const Vec xv = at(x, v);
+        const Vec n = input_normal(surface.closest(xv).face);
+        const Vec e1 = unit(std::abs(n[0]) < 0.6 ? cross(n, Vec{1, 0, 0}) : cross(n, Vec{0, 1, 0})), e2 = cross(n, e1);
+        std::vector<Linear2> ring;
+        double box = 0;
+        for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
+          const std::uint32_t* t = &triangles[3 * std::size_t{incident[j]}];
+          const int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+          const Vec B = sub(at(x, t[(corner + 1) % 3]), xv), C = sub(at(x, t[(corner + 2) % 3]), xv);
+          const Vec m = cross(n, sub(C, B));
+          ring.push_back({{0.5 * dot(e1, m), 0.5 * dot(e2, m)}, 0.5 * dot(n, cross(B, C))});
+          box = std::max({box, std::sqrt(dot(B, B)), std::sqrt(dot(C, C))});
+        }
+        const auto [d, best_min] = max_min_offset(ring, box);
+        const double zero[2] = {0, 0};
+        double now_min = ring[0].at(zero);
+        for (const Linear2& f : ring) now_min = std::min(now_min, f.at(zero));
+        if (!(best_min > now_min)) continue;
+
+        auto ring_folds = [&] {
+          std::size_t count = 0;
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) count += is_folded(incident[j]);
+          return count;
+        };
+        auto ring_min_area = [&] {  // along n, as the linear program measures it
+          double smallest = std::numeric_limits<double>::infinity();
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
+            const std::uint32_t* t = &triangles[3 * std::size_t{incident[j]}];
+            const Vec a = at(x, t[0]);
+            smallest = std::min(smallest, 0.5 * dot(n, cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a))));
+          }
+          return smallest;
+        };
+        const Vec planar{xv[0] + d[0] * e1[0] + d[1] * e2[0], xv[1] + d[0] * e1[1] + d[1] * e2[1],
+                         xv[2] + d[0] * e1[2] + d[1] * e2[2]};
+        Vec best = xv;
+        std::size_t best_folds = ring_folds();
+        double best_area = now_min;
+        for (const Vec& q : {surface.closest(planar).point, planar}) {
+          for (int c = 0; c < 3; ++c) x[3 * v + c] = q[c];
+          const std::size_t folds = ring_folds();
+          const double area = ring_min_area();
+          if (folds < best_folds || (folds == best_folds && area > best_area)) best = q, best_folds = folds, best_area = area;
+        }
+        for (int c = 0; c < 3; ++c) x[3 * v + c] = best[c];
+        if (best != xv) {
+          ++moved;
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) folded[incident[j]] = is_folded(incident[j]);
+        }
+      }
+      moved_in_all += moved;
+      if (moved == 0) break;
+    }
+    return moved_in_all;
+  };
+
+  // Rounds of patches then vertices: a vertex moved by the second can make a patch untangle.
+  for (int round = 0; round < options.rounds; ++round) {
+    patch_passes();
+    const std::size_t moved = vertex_passes();
+    report.vertices_moved += moved;
+    if (moved == 0) break;
   }
   report.folded_after = static_cast<std::size_t>(std::count(folded.begin(), folded.end(), 1));
   return report;

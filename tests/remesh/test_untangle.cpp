@@ -1,4 +1,4 @@
-// Untangling folded patches of a remesh (untangle.h).
+// Untangling folded patches and vertices of a remesh (untangle.h).
 #include <cmath>
 #include <stdexcept>
 
@@ -47,6 +47,35 @@ TEST_CASE("Untangling unfolds pleats on a sphere and leaves the vertices on it",
   }
 }
 
+TEST_CASE("Vertex by vertex untangling alone unfolds a vertex pushed across its ring", "[remesh][untangle]") {
+  const SurfaceQuery sphere(test::icosphere(5));
+  SemiRegularMesh mesh = test::sphere_refinement(3);
+  const std::vector<std::uint32_t>& t = mesh.hierarchy.triangles(3);
+  const std::uint32_t v = t[3 * 100], through = t[3 * 100 + 1];
+  for (int c = 0; c < 3; ++c) mesh.positions[3 * v + c] += 1.8 * (mesh.positions[3 * through + c] - mesh.positions[3 * v + c]);
+  const std::vector<double> tangled_positions = mesh.positions;
+  const std::size_t tangled = folds(mesh, sphere);
+  REQUIRE(tangled >= 2);
+
+  UntangleOptions options;
+  options.passes = 0;  // no patches: only the per-vertex linear program
+  const UntangleReport report = untangle(mesh, sphere, options);
+  CHECK(report.patches_tried == 0);
+  CHECK(report.vertices_moved >= 1);
+  CHECK(report.folded_after == 0);
+  CHECK(folds(mesh, sphere) == 0);
+  // Only vertices of folded faces moved.
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < mesh.positions.size(); i += 3) moved += mesh.positions[i] != tangled_positions[i];
+  CHECK(moved >= 1);
+  CHECK(moved <= 7);
+
+  // Without vertex passes and patches nothing happens.
+  mesh.positions = tangled_positions;
+  options.vertex_passes = 0;
+  CHECK(untangle(mesh, sphere, options).folded_after == tangled);
+}
+
 TEST_CASE("Untangling leaves a mesh without folds as it is", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(4));
   SemiRegularMesh mesh = test::sphere_refinement(3);
@@ -68,5 +97,11 @@ TEST_CASE("Untangling rejects options out of range", "[remesh][untangle]") {
   CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
   options = {};
   options.passes = -1;
+  CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
+  options = {};
+  options.vertex_passes = -1;
+  CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
+  options = {};
+  options.rounds = 0;
   CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
 }
