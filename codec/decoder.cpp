@@ -125,8 +125,10 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
 
   try {
     // Without the finest level's faces until the end (the largest array; nothing reads it before)
-    // and without the stored coefficient tree (the Forest reads it off the topologies).
-    SemiRegularHierarchy h(std::move(base), header.levels, false, false);
+    // and without the stored coefficient tree (the Forest reads it off the topologies). For Loop,
+    // without the topology of level L - 1 either: its synthesis, its frames and the output faces
+    // read it off level L - 2 (a quarter of the size), and the Forest never reads it.
+    SemiRegularHierarchy h(std::move(base), header.levels, false, false, header.scheme != Scheme::loop);
     RangeDecoder decoder(stream.coefficients);
     zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
 

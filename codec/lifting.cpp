@@ -235,7 +235,7 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
   // Blocks of 16 Ki rows: 256 KiB of sources for the predict step's, which stay in L2 from their
   // writing to their use.
   constexpr std::uint32_t kBlockRows = 16384;
-  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.topology(level), kBlockRows,
+  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.vertex_count(level), kBlockRows,
                                 [&](const LiftingStep& step) { apply_step<true>(step, values.data(), channels); });
 }
 

@@ -102,28 +102,80 @@ void compute(FrameBlock& b, Scratch& s, std::uint32_t count) {
 
 }  // namespace
 
-void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride,
-                          const std::function<void(const FrameBlock&)>& visit) {
-  const TriangleTopology& t = h.topology(level);
+namespace {
+
+/// A level's faces and edges as stored in its topology.
+struct StoredLevel {
+  const TriangleTopology& t;
+  std::uint32_t vertex_count() const { return t.vertex_count; }
+  std::uint32_t edge_count() const { return static_cast<std::uint32_t>(t.edge_count()); }
+  /// f(a, b, c) for every face, in face order.
+  template <class F>
+  void for_each_face(F&& f) const {
+    for (std::size_t k = 0; k < t.face_count(); ++k) f(t.triangles[3 * k], t.triangles[3 * k + 1], t.triangles[3 * k + 2]);
+  }
+  void edge(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const {
+    a = t.edge_vertices[2 * e];
+    b = t.edge_vertices[2 * e + 1];
+  }
+};
+
+/// The faces and edges of coarse.refined() (a level the hierarchy does not hold), read off the
+/// coarse level by TriangleTopology::refined()'s rule, in the same order and orientation: face f
+/// becomes corner faces (c_i, m_i, m_{i+2}) and the centre (m_0, m_1, m_2), m_i = V + e_i; edge
+/// e = (a, b) becomes halves 2e = (a, m), 2e + 1 = (m, b); inner edge 2E + 3f + i runs m_{i+2} -> m_{i+1}.
+struct RefinedLevel {
+  const TriangleTopology& coarse;
+  std::uint32_t vertex_count() const { return coarse.vertex_count + static_cast<std::uint32_t>(coarse.edge_count()); }
+  std::uint32_t edge_count() const {
+    return static_cast<std::uint32_t>(2 * coarse.edge_count() + 3 * coarse.face_count());
+  }
+  template <class F>
+  void for_each_face(F&& f) const {
+    const std::uint32_t V = coarse.vertex_count;
+    for (std::size_t k = 0; k < coarse.face_count(); ++k) {
+      const std::uint32_t* c = &coarse.triangles[3 * k];
+      const std::uint32_t m[3] = {V + coarse.face_edges[3 * k], V + coarse.face_edges[3 * k + 1], V + coarse.face_edges[3 * k + 2]};
+      f(c[0], m[0], m[2]);
+      f(c[1], m[1], m[0]);
+      f(c[2], m[2], m[1]);
+      f(m[0], m[1], m[2]);
+    }
+  }
+  void edge(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const {
+    const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
+    if (e < 2 * E) {
+      const std::uint32_t p = e / 2, m = V + p;
+      a = e % 2 == 0 ? coarse.edge_vertices[2 * p] : m;
+      b = e % 2 == 0 ? m : coarse.edge_vertices[2 * p + 1];
+    } else {
+      const std::uint32_t f = (e - 2 * E) / 3, i = (e - 2 * E) % 3;
+      a = V + coarse.face_edges[3 * f + (i + 2) % 3];
+      b = V + coarse.face_edges[3 * f + (i + 1) % 3];
+    }
+  }
+};
+
+template <class Level>
+void frame_blocks(const Level& level, std::span<const double> coarse, int stride, const std::function<void(const FrameBlock&)>& visit) {
   const std::size_t s = static_cast<std::size_t>(stride);
   auto position = [&](std::uint32_t v) { return Vec{coarse[s * v], coarse[s * v + 1], coarse[s * v + 2]}; };
 
   // Area-weighted vertex normals of the level-j mesh (the cross product's length is twice the
   // face's area, its direction the face normal).
   std::vector<Vec> normal;
-  assign_large(normal, t.vertex_count, Vec{0, 0, 0});
-  for (std::size_t f = 0; f < t.face_count(); ++f) {
-    const std::uint32_t a = t.triangles[3 * f], b = t.triangles[3 * f + 1], c = t.triangles[3 * f + 2];
+  assign_large(normal, level.vertex_count(), Vec{0, 0, 0});
+  level.for_each_face([&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const Vec p = position(a);
     const Vec n = cross(position(b) - p, position(c) - p);
     normal[a] = normal[a] + n;
     normal[b] = normal[b] + n;
     normal[c] = normal[c] + n;
-  }
+  });
 
   // Per edge: n = normalize(N_a + N_b), t1 = normalize(edge - (edge . n) n), t2 = n x t1
   // (local_frames.h), block by block.
-  const auto E = static_cast<std::uint32_t>(t.edge_count());
+  const std::uint32_t E = level.edge_count();
   FrameBlock block;
   Scratch scratch;
   for (std::uint32_t first = 0; first < E; first += kBlock) {
@@ -131,7 +183,8 @@ void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<co
     block.first_edge = first;
     block.count = count;
     for (std::uint32_t i = 0; i < count; ++i) {
-      const std::uint32_t a = t.edge_vertices[2 * (first + i)], b = t.edge_vertices[2 * (first + i) + 1];
+      std::uint32_t a, b;
+      level.edge(first + i, a, b);
       const Vec n = normal[a] + normal[b], edge = position(b) - position(a);
       block.nx[i] = n.x, block.ny[i] = n.y, block.nz[i] = n.z;
       scratch.ex[i] = edge.x, scratch.ey[i] = edge.y, scratch.ez[i] = edge.z;
@@ -158,6 +211,16 @@ void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<co
     }
     visit(block);
   }
+}
+
+}  // namespace
+
+void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride,
+                          const std::function<void(const FrameBlock&)>& visit) {
+  if (h.has_topology(level))
+    frame_blocks(StoredLevel{h.topology(level)}, coarse, stride, visit);
+  else
+    frame_blocks(RefinedLevel{h.topology(level - 1)}, coarse, stride, visit);
 }
 
 void rotate_details(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, std::span<double> details,

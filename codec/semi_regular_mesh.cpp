@@ -6,6 +6,55 @@
 #include "meshlift/semi_regular.h"
 
 namespace meshlift {
+namespace {
+
+/// The faces of coarse.refined().refined_triangles(), made without the middle level: each face
+/// of `coarse` gives its four children by TriangleTopology::refined()'s rule (corners and face
+/// edges, their edges numbered as refined() numbers them), and each child its four faces by
+/// refined_triangles()'s rule, in the same order.
+std::vector<std::uint32_t> twice_refined_triangles(const TriangleTopology& coarse) {
+  const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
+  const std::uint32_t middle_V = V + E;  // vertices of the middle level
+  const std::size_t F = coarse.face_count();
+  std::vector<std::uint32_t> out;
+  assign_large(out, 48 * F);
+  for (std::size_t f = 0; f < F; ++f) {
+    const std::uint32_t* c = &coarse.triangles[3 * f];
+    const std::uint32_t* fe = &coarse.face_edges[3 * f];
+    std::uint32_t m[3], half_from[3], half_to[3], inner[3];
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t e = fe[i];
+      m[i] = V + e;
+      const bool forward = coarse.edge_vertices[2 * e] == c[i];
+      half_from[i] = forward ? 2 * e : 2 * e + 1;
+      half_to[i] = forward ? 2 * e + 1 : 2 * e;
+      inner[i] = 2 * E + 3 * static_cast<std::uint32_t>(f) + static_cast<std::uint32_t>(i);
+    }
+    // Children: corner face i (c_i, m_i, m_{i+2}) with face edges (half of edge i at c_i, inner
+    // edge i+1, half of edge i+2 at c_i); the centre (m_0, m_1, m_2) with (inner 2, 0, 1).
+    const std::uint32_t child_corners[4][3] = {{c[0], m[0], m[2]}, {c[1], m[1], m[0]}, {c[2], m[2], m[1]}, {m[0], m[1], m[2]}};
+    const std::uint32_t child_edges[4][3] = {{half_from[0], inner[1], half_to[2]},
+                                             {half_from[1], inner[2], half_to[0]},
+                                             {half_from[2], inner[0], half_to[1]},
+                                             {inner[2], inner[0], inner[1]}};
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t* cc = child_corners[k];
+      const std::uint32_t mm[3] = {middle_V + child_edges[k][0], middle_V + child_edges[k][1], middle_V + child_edges[k][2]};
+      std::uint32_t* t = &out[48 * f + 12 * static_cast<std::size_t>(k)];
+      for (int i = 0; i < 3; ++i) {
+        t[3 * i] = cc[i];
+        t[3 * i + 1] = mm[i];
+        t[3 * i + 2] = mm[(i + 2) % 3];
+      }
+      t[9] = mm[0];
+      t[10] = mm[1];
+      t[11] = mm[2];
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 RefinedSize refined_size(const TriangleTopology& base, int levels) {
   RefinedSize s{static_cast<double>(base.vertex_count), static_cast<double>(base.edge_count()),
@@ -14,7 +63,8 @@ RefinedSize refined_size(const TriangleTopology& base, int levels) {
   return s;
 }
 
-SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles, bool coefficient_tree)
+SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles, bool coefficient_tree,
+                                           bool topology_below_finest)
     : has_finest_triangles_(finest_triangles || levels == 0), has_children_(coefficient_tree) {
   if (levels < 0 || levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " + std::to_string(levels));
@@ -26,12 +76,18 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bo
   topologies_.reserve(levels);
   topologies_.push_back(std::move(base));
   for (int j = 0; j < levels; ++j) {
-    const TriangleTopology& coarse = topologies_.back();
-    vertex_counts_.push_back(coarse.vertex_count + static_cast<std::uint32_t>(coarse.edge_count()));
-    if (j + 1 < levels)
-      topologies_.push_back(coarse.refined());
-    else if (finest_triangles)
-      finest_triangles_ = coarse.refined_triangles();
+    const TriangleTopology& coarse = topologies_.back();  // level j, or j - 1 if level j is left out
+    if (static_cast<int>(topologies_.size()) == j + 1) {
+      vertex_counts_.push_back(coarse.vertex_count + static_cast<std::uint32_t>(coarse.edge_count()));
+      if (j + 2 < levels || (j + 2 == levels && topology_below_finest))
+        topologies_.push_back(coarse.refined());
+      else if (j + 1 == levels && finest_triangles)
+        finest_triangles_ = coarse.refined_triangles();
+    } else {
+      // Level L - 1 left out: it has 2E + 3F edges of level L - 2.
+      vertex_counts_.push_back(vertex_counts_.back() + static_cast<std::uint32_t>(2 * coarse.edge_count() + 3 * coarse.face_count()));
+      if (finest_triangles) finest_triangles_ = twice_refined_triangles(coarse);
+    }
   }
 
   // Coefficient tree (CODEC-NOTES §1): the odd vertex on edge p of level j-1 has as children the
@@ -55,9 +111,17 @@ SemiRegularHierarchy::SemiRegularHierarchy(TriangleTopology base, int levels, bo
   }
 }
 
+const TriangleTopology& SemiRegularHierarchy::topology(int level) const {
+  if (level == levels() - 1 && !has_topology(level))
+    throw std::logic_error("SemiRegularHierarchy::topology: this hierarchy was built without level " + std::to_string(level));
+  return topologies_.at(static_cast<std::size_t>(level));
+}
+
 const std::vector<std::uint32_t>& SemiRegularHierarchy::triangles(int level) const {
   // With levels() == 0 the base is the finest level: its topology holds its faces.
   if (level < static_cast<int>(topologies_.size())) return topologies_.at(static_cast<std::size_t>(level)).triangles;
+  if (level == levels() - 1)
+    throw std::logic_error("SemiRegularHierarchy::triangles: this hierarchy was built without level " + std::to_string(level));
   if (level != levels()) throw std::out_of_range("SemiRegularHierarchy::triangles: no level " + std::to_string(level));
   if (!has_finest_triangles_)
     throw std::logic_error("SemiRegularHierarchy::triangles: this hierarchy was built without its finest faces");
@@ -65,7 +129,10 @@ const std::vector<std::uint32_t>& SemiRegularHierarchy::triangles(int level) con
 }
 
 std::vector<std::uint32_t> SemiRegularHierarchy::copy_triangles(int level) const {
-  if (level == levels() && !has_finest_triangles_) return topologies_.back().refined_triangles();
+  const bool below_finest_held = has_topology(levels() - 1);
+  if (level == levels() - 1 && !below_finest_held) return topologies_.back().refined_triangles();
+  if (level == levels() && !has_finest_triangles_)
+    return below_finest_held ? topologies_.back().refined_triangles() : twice_refined_triangles(topologies_.back());
   return triangles(level);
 }
 
@@ -75,6 +142,16 @@ std::vector<std::uint32_t> SemiRegularHierarchy::release_finest_triangles() && {
     faces = std::move(topologies_.back().triangles);
   } else if (has_finest_triangles_) {
     faces = std::move(finest_triangles_);
+  } else if (!has_topology(levels() - 1)) {
+    // twice_refined_triangles() reads only the corners, edges and face edges of level L - 2.
+    TriangleTopology last;
+    last.vertex_count = topologies_.back().vertex_count;
+    last.triangles = std::move(topologies_.back().triangles);
+    last.edge_vertices = std::move(topologies_.back().edge_vertices);
+    last.face_edges = std::move(topologies_.back().face_edges);
+    topologies_.clear();
+    children_ = std::vector<std::uint32_t>();
+    faces = twice_refined_triangles(last);
   } else {
     // refined_triangles() reads only the corners and face edges of level L - 1.
     TriangleTopology last;

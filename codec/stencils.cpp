@@ -606,8 +606,13 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
 
 void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,
                          const std::function<void(const LiftingStep&)>& apply) {
+  loop_refined_blocks(coarse, fine.vertex_count, block_rows, apply);
+}
+
+void loop_refined_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
+                         const std::function<void(const LiftingStep&)>& apply) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  const std::uint32_t V = coarse.vertex_count, fine_V = fine.vertex_count;
+  const std::uint32_t V = coarse.vertex_count, fine_V = fine_vertices;
   std::vector<std::uint32_t> buffer;
   auto run = [&](std::uint32_t first_target, std::uint32_t count, std::uint32_t rows_per_item, std::uint32_t arity,
                  auto&& write) {

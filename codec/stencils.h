@@ -40,6 +40,10 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
 /// are disjoint), without their tables in memory, and with each block's rows still in cache.
 void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,
                          const std::function<void(const LiftingStep&)>& apply);
+/// The same knowing only the fine level's vertex count (all the rows read of it), for a
+/// hierarchy that does not hold the fine level's topology.
+void loop_refined_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
+                         const std::function<void(const LiftingStep&)>& apply);
 
 /// Mean-preserving update for interpolating schemes (seed 003 eq. 5.9), as its synthesis
 /// (inverse) step: even = even~ - lambda_l * sum(adjacent details), lambda_l = 1 / (2 (1 + c_l)),

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "meshlift/mesh.h"
@@ -33,7 +34,16 @@ class SemiRegularHierarchy {
   /// `coefficient_tree` false leaves out the stored children of children() (4 bytes per vertex):
   /// for a caller that does not ask for them (the codec's coder reads the tree off the
   /// topologies); children() then throws std::logic_error.
-  SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles = true, bool coefficient_tree = true);
+  /// `topology_below_finest` false leaves out topology(levels() - 1) when levels() >= 2 (48 bytes
+  /// per vertex of that level; with the finest faces also left out, the hierarchy then holds
+  /// levels up to levels() - 2 only): for a caller that reads that level off the level below by
+  /// the refinement rule (the decoder's Loop synthesis and local frames). topology(levels() - 1)
+  /// and triangles(levels() - 1) then throw std::logic_error; copy_triangles() and
+  /// release_finest_triangles() make the faces of both upper levels from levels() - 2.
+  SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles, bool coefficient_tree,
+                       bool topology_below_finest);
+  SemiRegularHierarchy(TriangleTopology base, int levels, bool finest_triangles = true, bool coefficient_tree = true)
+      : SemiRegularHierarchy(std::move(base), levels, finest_triangles, coefficient_tree, true) {}
 
   int levels() const { return static_cast<int>(vertex_counts_.size()) - 1; }
   /// Number of vertices of the mesh at `level` (levels 0..levels()).
@@ -41,7 +51,9 @@ class SemiRegularHierarchy {
   /// Connectivity of the mesh at `level` < levels() (and of the base when levels() == 0): the
   /// edges that level's stencils need. The finest level keeps only its triangles (its edges would
   /// be the largest arrays and nothing reads them): use triangles() for it.
-  const TriangleTopology& topology(int level) const { return topologies_.at(static_cast<std::size_t>(level)); }
+  const TriangleTopology& topology(int level) const;
+  /// Whether topology(level) is held (see the constructor's topology_below_finest).
+  bool has_topology(int level) const { return level >= 0 && level < static_cast<int>(topologies_.size()); }
   /// Faces of the mesh at `level` (0..levels()), 3 indices each.
   const std::vector<std::uint32_t>& triangles(int level) const;
   /// The same as a new array, made from the level below if this hierarchy does not keep them.
