@@ -41,4 +41,14 @@ void assign_large(std::vector<T>& v, std::size_t n, const T& value = T{}) {
   v.assign(n, value);
 }
 
+/// v emptied, with room for exactly n elements, advised before it is first written: for an array
+/// filled by appending, which then writes each element once (assign_large writes it twice: the
+/// zeros, then the value).
+template <class T>
+void reserve_large(std::vector<T>& v, std::size_t n) {
+  std::vector<T>().swap(v);
+  v.reserve(n);
+  advise_huge_pages(v.data(), n * sizeof(T));
+}
+
 }  // namespace meshlift

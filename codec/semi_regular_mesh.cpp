@@ -17,7 +17,7 @@ std::vector<std::uint32_t> twice_refined_triangles(const TriangleTopology& coars
   const std::uint32_t middle_V = V + E;  // vertices of the middle level
   const std::size_t F = coarse.face_count();
   std::vector<std::uint32_t> out;
-  assign_large(out, 48 * F);
+  reserve_large(out, 48 * F);
   for (std::size_t f = 0; f < F; ++f) {
     const std::uint32_t* c = &coarse.triangles[3 * f];
     const std::uint32_t* fe = &coarse.face_edges[3 * f];
@@ -40,15 +40,8 @@ std::vector<std::uint32_t> twice_refined_triangles(const TriangleTopology& coars
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t* cc = child_corners[k];
       const std::uint32_t mm[3] = {middle_V + child_edges[k][0], middle_V + child_edges[k][1], middle_V + child_edges[k][2]};
-      std::uint32_t* t = &out[48 * f + 12 * static_cast<std::size_t>(k)];
-      for (int i = 0; i < 3; ++i) {
-        t[3 * i] = cc[i];
-        t[3 * i + 1] = mm[i];
-        t[3 * i + 2] = mm[(i + 2) % 3];
-      }
-      t[9] = mm[0];
-      t[10] = mm[1];
-      t[11] = mm[2];
+      const std::uint32_t t[12] = {cc[0], mm[0], mm[2], cc[1], mm[1], mm[0], cc[2], mm[2], mm[1], mm[0], mm[1], mm[2]};
+      out.insert(out.end(), t, t + 12);
     }
   }
   return out;

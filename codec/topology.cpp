@@ -130,21 +130,14 @@ TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<c
 std::vector<std::uint32_t> TriangleTopology::refined_triangles() const {
   const std::uint32_t V = vertex_count;
   std::vector<std::uint32_t> out;
-  assign_large(out, 12 * face_count());
+  reserve_large(out, 12 * face_count());
   for (std::size_t f = 0; f < face_count(); ++f) {
     // Corner c_i keeps face (c_i, m_i, m_{i+2}); the centre face is (m_0, m_1, m_2), where m_i is
     // the odd vertex V + e on face edge i (c_i -> c_{i+1}).
     const std::uint32_t* c = &triangles[3 * f];
     const std::uint32_t m[3] = {V + face_edges[3 * f], V + face_edges[3 * f + 1], V + face_edges[3 * f + 2]};
-    std::uint32_t* t = &out[12 * f];
-    for (int i = 0; i < 3; ++i) {
-      t[3 * i] = c[i];
-      t[3 * i + 1] = m[i];
-      t[3 * i + 2] = m[(i + 2) % 3];
-    }
-    t[9] = m[0];
-    t[10] = m[1];
-    t[11] = m[2];
+    const std::uint32_t t[12] = {c[0], m[0], m[2], c[1], m[1], m[0], c[2], m[2], m[1], m[0], m[1], m[2]};
+    out.insert(out.end(), t, t + 12);
   }
   return out;
 }
