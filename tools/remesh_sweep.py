@@ -213,7 +213,9 @@ def grid_markdown(rows, command):
              "included). Issue 4's targets: >= 75 dB at <= 4x the input's vertices, >= 85 dB at <= 16x "
              "(ratios within %d %% of the budget count), zero folds, <= %g s per 100 k input vertices. "
              "\"16 (= 4)\": the decimation for D = 4 already stopped at or above D = 16's base size, so D = 16 "
-             "gives the same base and remesh; the row repeats that run (not run again)."
+             "gives the same base and remesh; \"auto (= 4)\": D = 4's decimation stopped above its target, so "
+             "auto's 2x try gets the same base and keeps it; such rows repeat that run (not run again, times "
+             "are that run's)."
              % (command, TIME_FORMAT, round(100 * (BUDGET_TOLERANCE - 1)), SECONDS_PER_100K), ""]
     head = ["mesh", "input v", "L", "D", "output v (ratio)", "base v", "PSNR dB", "folds", "remesh s", "wall s",
             "user s", "remesh s / 100 k in", "peak RSS MB", "target"]
@@ -265,8 +267,16 @@ def same_remesh(rows, mesh, level, density):
     automatic_remesh_base), and the decimation is deterministic, so a decimation that stopped at
     B >= ceil(D V / 4^L) vertices for a smaller density gives D the same base and the same remesh
     (remesh() skips its denser automatic try by the same rule). At L >= 4 it often does: the
-    decimator cannot go below a few hundred vertices on some meshes (cow: 193)."""
+    decimator cannot go below a few hundred vertices on some meshes (cow: 193).
+    --density auto remeshes at 2x first and keeps that when its decimation stopped above 4x's base
+    size (remesh.cpp, kAutoDensities = {2, 4}): when D = 4's decimation stopped above its own
+    target, auto's remesh is that same one."""
     if density == "auto":
+        for row in rows:
+            if (row["mesh"] == mesh and row["levels"] == level and row["density"] == "4" and not row["error"]
+                    and not row["same_as_density"]
+                    and row["base_vertices"] > math.ceil(4 * row["input_vertices"] / 4 ** level)):
+                return row
         return None
     for row in rows:
         if (row["mesh"] == mesh and row["levels"] == level and row["density"] != "auto" and not row["error"]
