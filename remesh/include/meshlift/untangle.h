@@ -31,7 +31,7 @@ struct UntangleOptions {
   int vertex_passes = 16;
   /// Rounds of patch passes then vertex passes (>= 1). Measured (L = 3, ~4x, after the
   /// least-squares fit): one round left camel 9 (was 27 with patches alone), cow 27 (52), turbine
-  /// 19 (63), mannequin-devil 25 (78); three rounds 9, 16, 19, 21.
+  /// 20 (63), mannequin-devil 27 (78); three rounds 9, 16, 19, 21.
   int rounds = 3;
 };
 
