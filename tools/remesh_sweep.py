@@ -4,16 +4,19 @@ levels and densities, and the effect of `--fit loop` on the coded size at equal 
 
 usage: remesh_sweep.py MESHLIFT CORPUS OUT [--meshes M,M,...] [--levels 3,4,5,6] [--densities 4,16,auto]
                        [--big-vertices N --big-levels 3,4] [--timeout S] [--resume]
-                       [--fit-meshes M,M,...] [--bpv B,B,...] [--psnr-range LOW,HIGH] [--no-grid] [--no-fit]
+                       [--fit-meshes M,M,...] [--fit-density D] [--bpv B,B,...] [--psnr-range LOW,HIGH]
+                       [--no-grid] [--no-fit]
 
 MESHLIFT is the meshlift binary, CORPUS the directory of the meshes (CORPUS/M.off; see
 ./scripts/corpus.sh). Writes into OUT:
   remesh/<M>_L<L>_d<D>.log, .time   stderr of `meshlift remesh CORPUS/M.off --levels L --density D`
                                     and /usr/bin/time's "%e %U %M" (wall s, user s, peak RSS KiB)
   remesh_sweep.csv, remesh_sweep.md one row per mesh x level x density, and the issue's targets
-  fit/<loop|none>/rd.csv            `meshlift rd` (butterfly, L = 3, default density) with --fit F
-  fit/remesh/<M>_<F>.log, .time     `meshlift remesh --levels 3 --fit F`: the remesh those streams code
+  fit/<loop|none>/rd.csv            `meshlift rd` (butterfly, L = 3, --density auto) with --fit F
+  fit/remesh/<M>_<F>.log, .time     `meshlift remesh --levels 3 --density auto --fit F`: the remesh
+                                    those streams code
   fit_loop.csv, fit_loop.md         BD-rate of --fit loop against --fit none per mesh, PSNR at 2/4/8 bpv
+                                    (fit_d<D>/, fit_loop_d<D>.* with --fit-density D)
 Meshes and levels run one process at a time (the remesh uses all cores itself); run the script
 under `nice -n 10` on a shared machine. The output meshes are deleted after measuring.
 --big-vertices N with --big-levels: meshes with at least N input vertices get densities >= 16 only
@@ -232,9 +235,34 @@ def grid_markdown(rows, command):
                       r["psnr_db"], folds if not r["degenerate"] else "%d (%d degenerate)" % (folds, r["degenerate"]),
                       r["remesh_s"], r["wall_s"], r["user_s"], r["remesh_s_per_100k"], r["peak_rss_mb"],
                       targets_met(r)])
-    lines.append(demo_report.markdown_table(head, table))
+    lines += [compact_table(done), "", "Every run:", "", demo_report.markdown_table(head, table)]
     lines += ["", summary_lines(done)]
     return "\n".join(lines) + "\n"
+
+
+def compact_table(rows):
+    """Mesh x (density, level): 'PSNR dB / ratio / folds', the figures the issue's targets are about."""
+    columns = list(dict.fromkeys((r["density"], r["levels"]) for r in rows))
+    cells = {(r["mesh"], r["density"], r["levels"]): r for r in rows}
+    head = ["mesh (input v)"] + ["D %s, L %d" % c for c in columns]
+    table = []
+    for mesh in dict.fromkeys(r["mesh"] for r in rows):
+        line = []
+        for density, level in columns:
+            r = cells.get((mesh, density, level))
+            if not r:
+                line.append("-")
+                continue
+            folds = int(r["flipped"]) + int(r["degenerate"])
+            line.append("%.1f / %.1fx / %d%s" % (float(r["psnr_db"]), float(r["ratio"]), folds,
+                                                 " (=)" if r["same_as_density"] else ""))
+        table.append(["%s (%s)" % (mesh, "{:,}".format(cells_input(rows, mesh)))] + line)
+    return ("In short, PSNR dB / output vertices per input vertex / folds; (=) repeats the D = 4 run:\n\n" +
+            demo_report.markdown_table(head, table))
+
+
+def cells_input(rows, mesh):
+    return next(r["input_vertices"] for r in rows if r["mesh"] == mesh)
 
 
 def summary_lines(rows):
@@ -325,20 +353,26 @@ WHOLE_RANGE = (-1e9, 1e9)
 FITS = ["loop", "none"]
 
 
+def fit_name(args, stem):
+    """fit, fit_loop for the default density; fit_d4, fit_loop_d4 for --fit-density 4."""
+    return stem if args.fit_density == "auto" else "%s_d%s" % (stem, args.fit_density)
+
+
 def run_fit(args):
     """`meshlift rd` with --fit loop and --fit none on the same meshes, and the BD-rate between them."""
     import plot_rd  # numpy: only this part needs it
     failed = False
     rd_rows = {}
+    base = os.path.join(args.out, fit_name(args, "fit"))
     for fit in FITS:
-        directory = os.path.join(args.out, "fit", fit)
+        directory = os.path.join(base, fit)
         os.makedirs(directory, exist_ok=True)
         stem = os.path.join(directory, "rd")
         if not (args.resume and os.path.exists(stem + ".time") and os.path.exists(os.path.join(directory, "rd.csv"))):
             # rd has no switch for "no Draco rows"; two Draco points per mesh are cheap and place both curves.
             command = [args.meshlift, "rd"] + [os.path.join(args.corpus, m + ".off") for m in args.fit_meshes] + [
-                "--schemes", "butterfly", "--levels", "3", "--fit", fit, "--bpv", ",".join("%g" % b for b in args.bpv),
-                "--draco-qp", "8,10", "-o", directory]
+                "--schemes", "butterfly", "--levels", "3", "--density", args.fit_density, "--fit", fit, "--bpv",
+                ",".join("%g" % b for b in args.bpv), "--draco-qp", "8,10", "-o", directory]
             print("remesh_sweep.py: %s" % " ".join(command[1:]), file=sys.stderr, flush=True)
             error = timed_run(command, stem, args.rd_timeout)
             if error:
@@ -352,14 +386,14 @@ def run_fit(args):
         for line in skipped:
             print("remesh_sweep.py: skipped %s" % line, file=sys.stderr)
         rd_rows[fit] = rows
-    os.makedirs(os.path.join(args.out, "fit", "remesh"), exist_ok=True)
+    os.makedirs(os.path.join(base, "remesh"), exist_ok=True)
     table = []
     for mesh in args.fit_meshes:
         entry = dict.fromkeys(FIT_COLUMNS, "")
         entry["mesh"] = mesh
-        # The remesh each stream codes (same options as `meshlift rd`'s: L = 3, default density).
+        # The remesh each stream codes (same options as `meshlift rd`'s).
         for fit in FITS:
-            row = remesh_row(args.meshlift, args.corpus, os.path.join(args.out, "fit"), mesh, 3, "auto",
+            row = remesh_row(args.meshlift, args.corpus, base, mesh, 3, args.fit_density,
                              args.timeout, args.resume, extra=("--fit", fit))
             if row["error"]:
                 print("remesh_sweep.py: %s --fit %s: %s" % (mesh, fit, row["error"]), file=sys.stderr)
@@ -389,19 +423,20 @@ def run_fit(args):
     for entry in table:
         for column in columns:
             entry.setdefault(column, "")
-    write_csv(os.path.join(args.out, "fit_loop.csv"), columns, table)
-    write_text(os.path.join(args.out, "fit_loop.md"), fit_markdown(table, args))
+    write_csv(os.path.join(args.out, fit_name(args, "fit_loop") + ".csv"), columns, table)
+    write_text(os.path.join(args.out, fit_name(args, "fit_loop") + ".md"), fit_markdown(table, args))
     return table, failed
 
 
 def fit_markdown(table, args):
     shown = [b for b in ("2", "4", "8") if b in ["%g" % x for x in args.bpv]] or ["%g" % x for x in args.bpv]
-    lines = ["`--fit loop` against `--fit none`: `meshlift rd M.off --schemes butterfly --levels 3 --fit F --bpv %s` "
-             "(default density; prefixes of one stream, decoded and measured against the original). BD-rate "
+    lines = ["`--fit loop` against `--fit none`: `meshlift rd M.off --schemes butterfly --levels 3 --density %s "
+             "--fit F --bpv %s` (prefixes of one stream, decoded and measured against the original). BD-rate "
              "(Bjontegaard, VCEG-M33, tools/plot_rd.py) of loop against none over their PSNR overlap within "
              "%g-%g dB: negative = --fit loop needs fewer bytes at equal PSNR. Remesh: `meshlift remesh M.off "
-             "--levels 3 --fit F`, the mesh those streams code." % (",".join("%g" % b for b in args.bpv),
-                                                                  args.psnr_range[0], args.psnr_range[1]), ""]
+             "--levels 3 --density %s --fit F`, the mesh those streams code." % (
+                 args.fit_density, ",".join("%g" % b for b in args.bpv), args.psnr_range[0], args.psnr_range[1],
+                 args.fit_density), ""]
     head = (["mesh", "remesh loop / none (ratio, PSNR dB, folds)",
              "BD-rate loop vs none, %g-%g dB (interval; points loop / none)" % args.psnr_range,
              "BD-rate loop vs none, whole overlap (interval)"] + ["PSNR at %s bpv, loop / none" % b for b in shown])
@@ -444,6 +479,9 @@ def main(argv):
                              "row repeats that run's figures)")
     parser.add_argument("--fit-meshes", default=",".join(FIT_MESHES), help="meshes of the --fit comparison")
     parser.add_argument("--bpv", default="1,1.5,2,3,4,6,8,12,16,24", help="budgets of the --fit comparison, bits per input vertex")
+    parser.add_argument("--fit-density", default="auto",
+                        help="remesh density of the --fit comparison (default auto, meshlift's default; outputs "
+                             "fit_d<D>/, fit_loop_d<D>.* otherwise)")
     parser.add_argument("--psnr-range", default="55,75", help="BD-rate interval in dB (default 55,75, as plot_rd.py)")
     parser.add_argument("--no-grid", action="store_true", help="skip the levels x densities grid")
     parser.add_argument("--no-fit", action="store_true", help="skip the --fit comparison")
@@ -455,6 +493,7 @@ def main(argv):
         args.big_levels = parse_list(args.big_levels, int, "--big-levels")
         args.densities = parse_list(args.densities, density_value, "--densities")
         args.bpv = parse_list(args.bpv, float, "--bpv")
+        args.fit_density = parse_list(args.fit_density, density_value, "--fit-density")[0]
         args.psnr_range = tuple(parse_list(args.psnr_range, float, "--psnr-range"))
     except argparse.ArgumentTypeError as error:
         parser.error(str(error))
@@ -482,7 +521,7 @@ def main(argv):
         if not args.no_fit:
             _, fit_failed = run_fit(args)
             failed |= fit_failed
-            sys.stdout.write(open(os.path.join(args.out, "fit_loop.md")).read())
+            sys.stdout.write(open(os.path.join(args.out, fit_name(args, "fit_loop") + ".md")).read())
     except SweepError as error:
         print("remesh_sweep.py: %s" % error, file=sys.stderr)
         return EXIT_OUTPUT_ERROR
