@@ -2,6 +2,9 @@
 // COEF chunks (bitstream/FORMAT.md §3-5). Mirrors decoder.cpp.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <new>
 
 #include "base_mesh_coder.h"
 #include "canonical_order.h"
@@ -211,14 +214,13 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   }();
   const std::size_t k_stride = static_cast<std::size_t>(K);
   std::vector<double> values;
-  assign_large(values, std::size_t{V} * k_stride);
+  reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
   for (std::uint32_t v = 0; v < V; ++v) {
-    double* out = &values[k_stride * v];
     const std::size_t old = old_vertex[v];
-    for (int k = 0; k < 3; ++k) *out++ = input.positions[3 * old + static_cast<std::size_t>(k)];
+    values.insert(values.end(), &input.positions[3 * old], &input.positions[3 * old] + 3);
     for (const VertexChannel& c : input.channels) {
       const std::size_t n = static_cast<std::size_t>(c.components);
-      for (std::size_t k = 0; k < n; ++k) *out++ = c.values[n * old + k];
+      values.insert(values.end(), &c.values[n * old], &c.values[n * old] + n);
     }
   }
   // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
@@ -266,11 +268,14 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
   const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
   transform.analyze(values, K);
-  // The closed loop's reconstruction (local frames; each value written again before it is read)
-  // or a scratch array of the same size holds the level weights' impulse responses, K at a time.
-  std::vector<double> decoded;
-  assign_large(decoded, values.size());
-  header.level_weights = level_weights(h, transform, decoded);
+  // The level weights' impulses in zeros that only their supports touch: calloc maps fresh pages
+  // for a large array (no clearing pass; a page is faulted in only where an impulse reaches).
+  {
+    const std::unique_ptr<double, decltype(&std::free)> impulses(static_cast<double*>(std::calloc(V, sizeof(double))),
+                                                                 &std::free);
+    if (!impulses) throw std::bad_alloc();
+    header.level_weights = level_weights(h, transform, std::span<double>(impulses.get(), V));
+  }
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
@@ -306,9 +311,12 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     for (std::size_t v = j == 0 ? 0 : h.vertex_count(j - 1); v < h.vertex_count(j); ++v) quantize(j, v, reconstruction);
   };
   if (!header.local_frames) {
-    decoded = std::vector<double>();
     for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
   } else {
+    // The closed loop's reconstruction, left unset: every value is written before it is read.
+    const std::unique_ptr<double[]> reconstruction = std::make_unique_for_overwrite<double[]>(values.size());
+    advise_huge_pages(reconstruction.get(), values.size() * sizeof(double));
+    const std::span<double> decoded(reconstruction.get(), values.size());
     // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
     // sides rotate by the same frames bit for bit. Every value of `decoded` a synthesis reads has
