@@ -162,8 +162,16 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     // rate).
     const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
     for (int j = 0; j < result.level; ++j) {
-      if (header.local_frames) frames::rotate_details(h, j, values, values, K, frames::Direction::to_global);
-      synthesize_level(h, wavelets, j, values, K);
+      if (!header.local_frames) {
+        synthesize_level(h, wavelets, j, values, K);
+        continue;
+      }
+      // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache.
+      const frames::LevelFrames level_frames(h, j, values, K);
+      const std::uint32_t first_odd = h.vertex_count(j);
+      synthesize_level(h, wavelets, j, values, K, [&](std::uint32_t first, std::uint32_t count) {
+        level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
+      });
     }
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).

@@ -16,6 +16,7 @@
 // It preserves sum(fine) = sum_l (1 + c_l) coarse(l) exactly; tests/codec/test_lifting.cpp checks it.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -216,27 +217,39 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
 
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels) {
+  synthesize_level(hierarchy, options, level, values, channels, {});
+}
+
+void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                      int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd) {
   check_channels(channels);
   if (level < 0 || level >= hierarchy.levels())
     throw std::invalid_argument("synthesize_level: no level " + std::to_string(level) + " below the finest");
   if (values.size() < static_cast<std::size_t>(hierarchy.vertex_count(level + 1)) * channels)
     throw std::invalid_argument("synthesize_level: values hold fewer vertices than the level makes");
+  const std::uint32_t first_odd = hierarchy.vertex_count(level);
+  // In the block paths the predict step reads the odd vertices first, each block its own: hand
+  // each predict block's targets over just before it (update blocks target even vertices).
+  auto apply = [&](const LiftingStep& step) {
+    if (before_odd && step.first_target >= first_odd) before_odd(step.first_target, step.row_count);
+    apply_step<true>(step, values.data(), channels);
+  };
   if (options.scheme != Scheme::loop && !options.mean_preserving_update) {
     // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources.
     constexpr std::uint32_t kBlockRows = 8192;
-    stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows,
-                             [&](const LiftingStep& step) { apply_step<true>(step, values.data(), channels); });
+    stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, apply);
     return;
   }
   if (options.scheme != Scheme::loop || level == 0) {
+    // The level's tables; with the mean-preserving update its first step reads the odd vertices.
+    if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd);
     WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level);
     return;
   }
   // Blocks of 16 Ki rows: 256 KiB of sources for the predict step's, which stay in L2 from their
   // writing to their use.
   constexpr std::uint32_t kBlockRows = 16384;
-  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.vertex_count(level), kBlockRows,
-                                [&](const LiftingStep& step) { apply_step<true>(step, values.data(), channels); });
+  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.vertex_count(level), kBlockRows, apply);
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

@@ -14,9 +14,7 @@
 namespace meshlift::frames {
 namespace {
 
-struct Vec {
-  double x, y, z;
-};
+using Vec = Vec3;
 Vec operator+(Vec a, Vec b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 Vec operator-(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 Vec operator*(double s, Vec a) { return {s * a.x, s * a.y, s * a.z}; }
@@ -156,14 +154,11 @@ struct RefinedLevel {
   }
 };
 
+/// Area-weighted vertex normals of a level's mesh (the cross product's length is twice the face's
+/// area, its direction the face normal), summed face by face in face order.
 template <class Level>
-void frame_blocks(const Level& level, std::span<const double> coarse, int stride, const std::function<void(const FrameBlock&)>& visit) {
-  const std::size_t s = static_cast<std::size_t>(stride);
+void vertex_normals(const Level& level, std::span<const double> coarse, std::size_t s, std::vector<Vec>& normal) {
   auto position = [&](std::uint32_t v) { return Vec{coarse[s * v], coarse[s * v + 1], coarse[s * v + 2]}; };
-
-  // Area-weighted vertex normals of the level-j mesh (the cross product's length is twice the
-  // face's area, its direction the face normal).
-  std::vector<Vec> normal;
   assign_large(normal, level.vertex_count(), Vec{0, 0, 0});
   level.for_each_face([&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const Vec p = position(a);
@@ -172,14 +167,20 @@ void frame_blocks(const Level& level, std::span<const double> coarse, int stride
     normal[b] = normal[b] + n;
     normal[c] = normal[c] + n;
   });
+}
 
+/// The frames of edges [begin, end) in blocks of up to kBlock from `begin`. An edge's frame
+/// depends on its own inputs only (the lanes are independent), so any blocking gives its bits.
+template <class Level>
+void frame_blocks(const Level& level, std::span<const double> coarse, std::size_t s, const std::vector<Vec>& normal,
+                  std::uint32_t begin, std::uint32_t end, const std::function<void(const FrameBlock&)>& visit) {
+  auto position = [&](std::uint32_t v) { return Vec{coarse[s * v], coarse[s * v + 1], coarse[s * v + 2]}; };
   // Per edge: n = normalize(N_a + N_b), t1 = normalize(edge - (edge . n) n), t2 = n x t1
   // (local_frames.h), block by block.
-  const std::uint32_t E = level.edge_count();
   FrameBlock block;
   Scratch scratch;
-  for (std::uint32_t first = 0; first < E; first += kBlock) {
-    const std::uint32_t count = std::min(kBlock, E - first);
+  for (std::uint32_t first = begin; first < end; first += kBlock) {
+    const std::uint32_t count = std::min(kBlock, end - first);
     block.first_edge = first;
     block.count = count;
     for (std::uint32_t i = 0; i < count; ++i) {
@@ -215,21 +216,40 @@ void frame_blocks(const Level& level, std::span<const double> coarse, int stride
 
 }  // namespace
 
+LevelFrames::LevelFrames(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride)
+    : hierarchy_(h), level_(level), coarse_(coarse), stride_(static_cast<std::size_t>(stride)) {
+  if (h.has_topology(level))
+    vertex_normals(StoredLevel{h.topology(level)}, coarse, stride_, normal_);
+  else
+    vertex_normals(RefinedLevel{h.topology(level - 1)}, coarse, stride_, normal_);
+}
+
+std::uint32_t LevelFrames::edge_count() const { return hierarchy_.vertex_count(level_ + 1) - hierarchy_.vertex_count(level_); }
+
+void LevelFrames::for_each_block(std::uint32_t begin, std::uint32_t end, const std::function<void(const FrameBlock&)>& visit) const {
+  if (hierarchy_.has_topology(level_))
+    frame_blocks(StoredLevel{hierarchy_.topology(level_)}, coarse_, stride_, normal_, begin, end, visit);
+  else
+    frame_blocks(RefinedLevel{hierarchy_.topology(level_ - 1)}, coarse_, stride_, normal_, begin, end, visit);
+}
+
+void LevelFrames::rotate(std::uint32_t begin, std::uint32_t end, std::span<double> details, Direction direction) const {
+  const std::uint32_t first_odd = hierarchy_.vertex_count(level_);
+  for_each_block(begin, end, [&](const FrameBlock& block) {
+    for (std::uint32_t i = 0; i < block.count; ++i) block.rotate(i, &details[stride_ * (first_odd + block.first_edge + i)], direction);
+  });
+}
+
 void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride,
                           const std::function<void(const FrameBlock&)>& visit) {
-  if (h.has_topology(level))
-    frame_blocks(StoredLevel{h.topology(level)}, coarse, stride, visit);
-  else
-    frame_blocks(RefinedLevel{h.topology(level - 1)}, coarse, stride, visit);
+  const LevelFrames frames(h, level, coarse, stride);
+  frames.for_each_block(0, frames.edge_count(), visit);
 }
 
 void rotate_details(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, std::span<double> details,
                     int stride, Direction direction) {
-  const std::size_t s = static_cast<std::size_t>(stride);
-  for_each_frame_block(h, level, coarse, stride, [&](const FrameBlock& block) {
-    for (std::uint32_t i = 0; i < block.count; ++i)
-      block.rotate(i, &details[s * h.odd_vertex(level, block.first_edge + i)], direction);
-  });
+  const LevelFrames frames(h, level, coarse, stride);
+  frames.rotate(0, frames.edge_count(), details, direction);
 }
 
 }  // namespace meshlift::frames

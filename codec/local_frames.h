@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "meshlift/semi_regular.h"
 
@@ -52,6 +53,35 @@ struct FrameBlock {
       d[2] = x * nz[i] + y * t1z[i] + z * t2z[i];
     }
   }
+};
+
+/// The frames of the edges of level `level` (of the odd vertices of level `level` + 1) from the
+/// level-`level` mesh whose positions are the first vertex_count(level) vertices of `coarse`
+/// (`stride` values per vertex, geometry first), range by range: the vertex normals are computed
+/// once, at construction, and each range's frames when asked for. For a caller that rotates each
+/// block of details just before its synthesis reads them (the decoder), while `coarse` still holds
+/// the level-`level` mesh. Any ranges give the same frames (each edge's depends on its own inputs).
+/// A 3-vector of the frames' arithmetic (local_frames.cpp).
+struct Vec3 {
+  double x, y, z;
+};
+
+class LevelFrames {
+ public:
+  LevelFrames(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> coarse, int stride);
+  std::uint32_t edge_count() const;
+  /// The frames of edges [begin, end), a block of up to FrameBlock::kCapacity at a time from `begin`.
+  void for_each_block(std::uint32_t begin, std::uint32_t end, const std::function<void(const FrameBlock&)>& visit) const;
+  /// Rotates the details of the odd vertices of edges [begin, end) (`stride` values per vertex
+  /// in `details`, which may be `coarse`: the ranges read and written are disjoint).
+  void rotate(std::uint32_t begin, std::uint32_t end, std::span<double> details, Direction direction) const;
+
+ private:
+  const SemiRegularHierarchy& hierarchy_;
+  int level_;
+  std::span<const double> coarse_;
+  std::size_t stride_;
+  std::vector<Vec3> normal_;
 };
 
 /// Computes the frames of the odd vertices of level `level` + 1 from the level-`level` mesh whose

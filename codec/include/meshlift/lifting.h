@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -115,5 +116,12 @@ class WaveletTransform {
 /// \pre 0 <= level < hierarchy.levels(); values hold vertex_count(level + 1) * channels doubles.
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels = 3);
+/// The same, calling before_odd(first, count) for the odd vertices [first, first + count) of level
+/// `level` + 1, every one exactly once and before any step reads it, while the level's even
+/// vertices still hold the level-`level` mesh: in each block's turn where the level is made a
+/// block at a time, else once for all of them first. For a caller that prepares the details
+/// there while they are in cache (the decoder turns them out of their local frames).
+void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                      int channels, const std::function<void(std::uint32_t first, std::uint32_t count)>& before_odd);
 
 }  // namespace meshlift
