@@ -32,6 +32,7 @@ import argparse
 import csv
 import math
 import os
+import signal
 import subprocess
 import sys
 
@@ -93,13 +94,22 @@ def read_time(path):
 
 
 def timed_run(command, stem, timeout):
-    """Runs command under /usr/bin/time; stderr to stem.log, time to stem.time. The error text or ''."""
+    """Runs command under /usr/bin/time; stderr to stem.log, time to stem.time. The error text or ''.
+
+    The command runs in its own process group so that a timeout ends meshlift too, not only
+    /usr/bin/time; a timed-out run leaves no stem.time, so --resume runs it again."""
     try:
         with open(stem + ".log", "w") as log:
-            status = subprocess.run(["/usr/bin/time", "-f", TIME_FORMAT, "-o", stem + ".time"] + command,
-                                    stdout=log, stderr=log, timeout=timeout).returncode
-    except subprocess.TimeoutExpired:
-        return "timed out after %g s" % timeout
+            process = subprocess.Popen(["/usr/bin/time", "-f", TIME_FORMAT, "-o", stem + ".time"] + command,
+                                       stdout=log, stderr=log, start_new_session=True)
+            try:
+                status = process.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+                if os.path.exists(stem + ".time"):
+                    os.remove(stem + ".time")
+                return "timed out after %g s" % timeout
     except OSError as error:
         raise SweepError("%s: cannot run: %s" % (error.filename or command[0], error.strerror))
     return "" if status == 0 else "exit status %d (see %s.log)" % (status, stem)
