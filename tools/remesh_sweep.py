@@ -276,7 +276,8 @@ def cells_input(rows, mesh):
 
 
 def summary_lines(rows):
-    """Per target: which mesh/level pairs meet it; folds and time over all rows."""
+    """Per target: which mesh/level pairs meet it; per density, the runs without folds; per density
+    and level, the remesh time per 100 k input vertices (rows that repeat a run not counted)."""
     out = []
     for density, psnr in TARGETS:
         cells = [r for r in rows if r["density"] != "auto" and float(r["density"]) == density]
@@ -285,16 +286,20 @@ def summary_lines(rows):
         met = ["%s L%d" % (r["mesh"], r["levels"]) for r in cells if targets_met(r) == "yes"]
         out.append("- >= %g dB at <= %gx, no fold: %d of %d runs: %s" % (psnr, density, len(met), len(cells),
                                                                         ", ".join(met) or "none"))
-    folded = [r for r in rows if int(r["flipped"]) + int(r["degenerate"])]
-    out.append("- runs with folds: %d of %d%s" % (len(folded), len(rows), (": " + ", ".join(
-        "%s L%d D%s (%d)" % (r["mesh"], r["levels"], r["density"], int(r["flipped"]) + int(r["degenerate"]))
-        for r in folded)) if folded else ""))
+    for density in dict.fromkeys(r["density"] for r in rows):
+        cells = [r for r in rows if r["density"] == density]
+        clean = ["%s L%d" % (r["mesh"], r["levels"]) for r in cells if not int(r["flipped"]) + int(r["degenerate"])]
+        out.append("- D = %s without folds: %d of %d: %s" % (density, len(clean), len(cells), ", ".join(clean) or "none"))
     runs = [r for r in rows if not r["same_as_density"]]
-    slow = [r for r in runs if float(r["remesh_s_per_100k"]) > SECONDS_PER_100K]
-    out.append("- runs over %g s per 100 k input vertices (remesh timer; repeated rows not counted): %d of %d%s" % (
-        SECONDS_PER_100K, len(slow), len(runs),
-        (": " + ", ".join("%s L%d D%s (%s)" % (r["mesh"], r["levels"], r["density"], r["remesh_s_per_100k"])
-                          for r in slow)) if slow else ""))
+    for density in dict.fromkeys(r["density"] for r in runs):
+        for level in dict.fromkeys(r["levels"] for r in runs):
+            per_100k = sorted(float(r["remesh_s_per_100k"]) for r in runs
+                              if r["density"] == density and r["levels"] == level)
+            if per_100k:
+                out.append("- D = %s, L = %d: remesh s per 100 k input vertices %.1f-%.1f (median %.1f), %d of %d "
+                           "within %g" % (density, level, per_100k[0], per_100k[-1], per_100k[len(per_100k) // 2],
+                                          sum(t <= SECONDS_PER_100K for t in per_100k), len(per_100k),
+                                          SECONDS_PER_100K))
     return "\n".join(out)
 
 
