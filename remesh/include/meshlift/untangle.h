@@ -5,8 +5,9 @@
 // without fold-overs), and lifted back onto the input along that normal. A patch is kept only
 // if it has fewer folded faces than before; else it grows (1, 2, 3, 5, 8 rings) and is tried again.
 // What patches leave is untangled vertex by vertex (Freitag and Plassmann 2000): each vertex of a
-// folded face moves, in the input's tangent plane, to where the smallest signed area of its
-// faces is largest, if that leaves fewer of its faces folded.
+// folded face moves, in the input's tangent plane (or the plane of its neighbours' or faces'
+// input normals), to where the smallest signed area of its faces is largest, if that leaves fewer
+// of its faces folded.
 #pragma once
 
 #include <cstddef>
@@ -30,8 +31,9 @@ struct UntangleOptions {
   /// stop early when a pass moves no vertex.
   int vertex_passes = 16;
   /// Rounds of patch passes then vertex passes (>= 1). Measured (L = 3, ~4x, after the
-  /// least-squares fit): one round left camel 9 (was 27 with patches alone), cow 27 (52), turbine
-  /// 20 (63), mannequin-devil 27 (78); three rounds 9, 16, 19, 21.
+  /// least-squares fit, the tangent plane alone): one round left camel 9 (was 27 with patches
+  /// alone), cow 27 (52), turbine 20 (63), mannequin-devil 27 (78); three rounds 9, 16, 19, 21;
+  /// eight as three.
   int rounds = 3;
 };
 
