@@ -179,6 +179,66 @@ void apply_step(const LiftingStep& s, double* x, int channels) {
     apply_step<Synthesis, 0>(s, x, channels);
 }
 
+// Loop's predict step of a refined level applied as its rows are read off the coarse faces
+// (stencils::loop_halves, loop_inner), in chunks of coarse edges or faces, each chunk's targets
+// handed to before_odd first: each row computed as synthesize_run computes its table row (the
+// target times the scale 1 first, then the sources in row order with the row's weights), a
+// pillow's merged row as its table holds it (c once, with 1/8 + 1/8).
+template <int C>
+void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd, double* __restrict x, int channels,
+                         const std::function<void(std::uint32_t, std::uint32_t)>& before_odd) {
+  const int n = C > 0 ? C : channels;
+  const double outer = 3.0 / 8, wing = 1.0 / 8, merged = 1.0 / 8 + 1.0 / 8, half = 0.5;
+  double* target = nullptr;
+  auto interior = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    const double *pa = x + std::size_t{a} * n, *pb = x + std::size_t{b} * n, *pc = x + std::size_t{c} * n;
+    if (c != d) [[likely]] {
+      const double* pd = x + std::size_t{d} * n;
+      for (int k = 0; k < n; ++k) {
+        double acc = 1.0 * target[k];
+        acc += outer * pa[k];
+        acc += outer * pb[k];
+        acc += wing * pc[k];
+        acc += wing * pd[k];
+        target[k] = acc;
+      }
+    } else {
+      for (int k = 0; k < n; ++k) {
+        double acc = 1.0 * target[k];
+        acc += outer * pa[k];
+        acc += outer * pb[k];
+        acc += merged * pc[k];
+        target[k] = acc;
+      }
+    }
+    target += n;
+  };
+  auto boundary = [&](std::uint32_t a, std::uint32_t b) {
+    const double *pa = x + std::size_t{a} * n, *pb = x + std::size_t{b} * n;
+    for (int k = 0; k < n; ++k) {
+      double acc = 1.0 * target[k];
+      acc += half * pa[k];
+      acc += half * pb[k];
+      target[k] = acc;
+    }
+    target += n;
+  };
+  constexpr std::uint32_t kChunk = 8192;
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  for (std::uint32_t begin = 0; begin < E; begin += kChunk) {
+    const std::uint32_t end = begin + std::min(kChunk, E - begin);
+    if (before_odd) before_odd(first_odd + 2 * begin, 2 * (end - begin));
+    target = x + (std::size_t{first_odd} + 2 * std::size_t{begin}) * n;
+    stencils::loop_halves(coarse, begin, end, interior, boundary);
+  }
+  for (std::uint32_t begin = 0; begin < F; begin += kChunk) {
+    const std::uint32_t end = begin + std::min(kChunk, F - begin);
+    if (before_odd) before_odd(first_odd + 2 * E + 3 * begin, 3 * (end - begin));
+    target = x + (std::size_t{first_odd} + 2 * std::size_t{E} + 3 * std::size_t{begin}) * n;
+    stencils::loop_inner(coarse, begin, end, interior);
+  }
+}
+
 void check_channels(int channels) {
   if (channels < 1 || channels > 64) throw std::invalid_argument("channels must be between 1 and 64");
 }
@@ -246,10 +306,17 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level);
     return;
   }
-  // Blocks of 16 Ki rows: 256 KiB of sources for the predict step's, which stay in L2 from their
-  // writing to their use.
+  // The predict step straight off the coarse faces, 8 Ki coarse edges or faces at a time; then
+  // the update step in blocks of 16 Ki rows (256 KiB of sources, in L2 from writing to use).
+  const TriangleTopology& coarse = hierarchy.topology(level - 1);
+  if (channels == 3)
+    loop_predict_direct<3>(coarse, first_odd, values.data(), 3, before_odd);
+  else if (channels == 1)
+    loop_predict_direct<1>(coarse, first_odd, values.data(), 1, before_odd);
+  else
+    loop_predict_direct<0>(coarse, first_odd, values.data(), channels, before_odd);
   constexpr std::uint32_t kBlockRows = 16384;
-  stencils::loop_refined_blocks(hierarchy.topology(level - 1), hierarchy.vertex_count(level), kBlockRows, apply);
+  stencils::loop_update_blocks(coarse, first_odd, kBlockRows, apply);
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

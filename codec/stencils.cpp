@@ -357,12 +357,6 @@ class LoopUpdatePatterns {
   std::uint32_t boundary_ = kNone, isolated_ = kNone;
 };
 
-/// Where edge e sits in face f: face edge i runs corner i -> i+1.
-std::uint32_t edge_in_face(const TriangleTopology& t, std::uint32_t f, std::uint32_t e) {
-  const std::uint32_t* fe = &t.face_edges[3 * f];
-  return fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
-}
-
 /// The vertex of face f opposite its edge e.
 std::uint32_t opposite(const TriangleTopology& t, std::uint32_t f, std::uint32_t e) {
   return t.triangles[3 * f + (edge_in_face(t, f, e) + 2) % 3];
@@ -517,42 +511,22 @@ namespace {
 
 /// Rows of loop_predict_refined for the halves of coarse edges [begin, end) (2 rows each).
 void loop_predict_halves(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
-  const std::uint32_t V = coarse.vertex_count;
   const double midpoint[] = {0.5, 0.5}, loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
   const std::uint32_t boundary = step.pattern(1.0, midpoint), interior = step.pattern(1.0, loop_interior);
-  // Halves. Face f0 = edge_faces[2e] runs a -> b with e its edge i0: its corner face at a opposes
-  // the half at a with m_{i0+2}, its corner face at b opposes the half at b with m_{i0+1}. Face
-  // f1 runs b -> a with e its edge i1: at b it opposes m_{i1+2}, at a m_{i1+1}. The face running
-  // a half as stored is its first face, as for every edge.
-  for (std::uint32_t e = begin; e < end; ++e) {
-    const std::uint32_t a = coarse.edge_vertices[2 * e], b = coarse.edge_vertices[2 * e + 1], m = V + e;
-    const std::uint32_t f0 = coarse.edge_faces[2 * e], f1 = coarse.edge_faces[2 * e + 1];
-    if (f1 == kNone) {
-      step.row(boundary, {a, m});
-      step.row(boundary, {m, b});
-      continue;
-    }
-    const std::uint32_t i0 = edge_in_face(coarse, f0, e), i1 = edge_in_face(coarse, f1, e);
-    const std::uint32_t* m0 = &coarse.face_edges[3 * f0];
-    const std::uint32_t* m1 = &coarse.face_edges[3 * f1];
-    loop_edge_row(step, interior, {a, m, V + m0[(i0 + 2) % 3], V + m1[(i1 + 1) % 3]}, loop_interior);
-    loop_edge_row(step, interior, {m, b, V + m0[(i0 + 1) % 3], V + m1[(i1 + 2) % 3]}, loop_interior);
-  }
+  loop_halves(
+      coarse, begin, end,
+      [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+        loop_edge_row(step, interior, {a, b, c, d}, loop_interior);
+      },
+      [&](std::uint32_t a, std::uint32_t b) { step.row(boundary, {a, b}); });
 }
 
 /// Rows of loop_predict_refined for the inner edges of coarse faces [begin, end) (3 rows each).
 void loop_predict_inner(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
-  const std::uint32_t V = coarse.vertex_count;
   const double loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
   const std::uint32_t interior = step.pattern(1.0, loop_interior);
-  // Inner edge i of face f, m_{i+2} -> m_{i+1}: its first face is the corner face at c_{i+2}, its
-  // second the centre face, opposite m_i.
-  for (std::uint32_t f = begin; f < end; ++f) {
-    const std::uint32_t* c = &coarse.triangles[3 * f];
-    const std::uint32_t m[3] = {V + coarse.face_edges[3 * f], V + coarse.face_edges[3 * f + 1],
-                                V + coarse.face_edges[3 * f + 2]};
-    for (int i = 0; i < 3; ++i) step.row(interior, {m[(i + 2) % 3], m[(i + 1) % 3], c[(i + 2) % 3], m[i]});
-  }
+  loop_inner(coarse, begin, end,
+             [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) { step.row(interior, {a, b, c, d}); });
 }
 
 /// Rows of loop_update_refined for the odd vertices V + e of coarse edges [begin, end).
@@ -587,6 +561,24 @@ void loop_update_even(StepWriter& step, LoopUpdatePatterns& pattern, const Trian
       [&](std::uint32_t, std::uint32_t n, bool on_boundary) { return pattern(n, on_boundary); });
 }
 
+/// Rows of `count` items (`rows_per_item` consecutive rows each, at most `arity` sources per row,
+/// the first target `first_target`), written by write(step, begin, end) a block of about
+/// `block_rows` rows at a time into `buffer` and handed to `apply`.
+template <class Write>
+void in_blocks(std::uint32_t first_target, std::uint32_t count, std::uint32_t rows_per_item, std::uint32_t arity,
+               std::uint32_t block_rows, std::vector<std::uint32_t>& buffer,
+               const std::function<void(const LiftingStep&)>& apply, Write&& write) {
+  const std::uint32_t items = std::max<std::uint32_t>(1, block_rows / rows_per_item);
+  for (std::uint32_t begin = 0; begin < count; begin += items) {
+    const std::uint32_t end = begin + std::min(items, count - begin);
+    StepWriter step(first_target + rows_per_item * begin, std::size_t{arity} * rows_per_item * (end - begin), std::move(buffer));
+    write(step, begin, end);
+    LiftingStep block = step.finish();
+    apply(block);
+    buffer = std::move(block.indices);
+  }
+}
+
 }  // namespace
 
 LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
@@ -612,41 +604,32 @@ void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology&
 void loop_refined_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
                          const std::function<void(const LiftingStep&)>& apply) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  const std::uint32_t V = coarse.vertex_count, fine_V = fine_vertices;
   std::vector<std::uint32_t> buffer;
-  auto run = [&](std::uint32_t first_target, std::uint32_t count, std::uint32_t rows_per_item, std::uint32_t arity,
-                 auto&& write) {
-    const std::uint32_t items = std::max<std::uint32_t>(1, block_rows / rows_per_item);
-    for (std::uint32_t begin = 0; begin < count; begin += items) {
-      const std::uint32_t end = begin + std::min(items, count - begin);
-      StepWriter step(first_target + rows_per_item * begin, std::size_t{arity} * rows_per_item * (end - begin),
-                      std::move(buffer));
-      write(step, begin, end);
-      LiftingStep block = step.finish();
-      apply(block);
-      buffer = std::move(block.indices);
-    }
-  };
   // Predict: the halves' rows, then the inner edges' (loop_predict_refined).
-  run(fine_V, E, 2, 4, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+  in_blocks(fine_vertices, E, 2, 4, block_rows, buffer, apply, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
     loop_predict_halves(step, coarse, begin, end);
   });
-  run(fine_V + 2 * E, F, 3, 4, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
-    loop_predict_inner(step, coarse, begin, end);
-  });
-  // Update (loop_update_refined): the coarse vertices' rows in one block (their counting sort
-  // runs over all coarse edges), then the odd vertices'.
+  in_blocks(fine_vertices + 2 * E, F, 3, 4, block_rows, buffer, apply,
+            [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { loop_predict_inner(step, coarse, begin, end); });
+  loop_update_blocks(coarse, fine_vertices, block_rows, apply, std::move(buffer));
+}
+
+void loop_update_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
+                        const std::function<void(const LiftingStep&)>& apply, std::vector<std::uint32_t> buffer) {
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count());
+  // The coarse vertices' rows in one block (their counting sort runs over all coarse edges),
+  // then the odd vertices'.
   {
     StepWriter step(0, 2 * std::size_t{E}, std::move(buffer));
     LoopUpdatePatterns pattern(step);
-    loop_update_even(step, pattern, coarse, fine_V);
+    loop_update_even(step, pattern, coarse, fine_vertices);
     LiftingStep block = step.finish();
     apply(block);
     buffer = std::move(block.indices);
   }
-  run(V, E, 1, 6, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+  in_blocks(coarse.vertex_count, E, 1, 6, block_rows, buffer, apply, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
     LoopUpdatePatterns pattern(step);
-    loop_update_odd(step, pattern, coarse, fine_V, begin, end);
+    loop_update_odd(step, pattern, coarse, fine_vertices, begin, end);
   });
 }
 

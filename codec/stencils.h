@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "meshlift/lifting.h"
 #include "meshlift/topology.h"
@@ -44,6 +45,58 @@ void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology&
 /// hierarchy that does not hold the fine level's topology.
 void loop_refined_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
                          const std::function<void(const LiftingStep&)>& apply);
+
+/// The update half of loop_refined_blocks (its blocks after the predict step's), in `buffer`'s
+/// storage: for a caller that applies the predict step its own way.
+void loop_update_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
+                        const std::function<void(const LiftingStep&)>& apply, std::vector<std::uint32_t> buffer = {});
+
+/// Where edge e sits in face f: face edge i runs corner i -> i+1.
+inline std::uint32_t edge_in_face(const TriangleTopology& t, std::uint32_t f, std::uint32_t e) {
+  const std::uint32_t* fe = &t.face_edges[3 * f];
+  return fe[0] == e ? 0 : fe[1] == e ? 1 : 2;
+}
+
+/// Loop's predict rows of a refined level read off the coarse level (the rows of
+/// loop_predict_refined, in order), for a caller that applies them as they come: for the two
+/// halves of each coarse edge in [begin, end), interior(a, b, c, d) for odd = 3/8 (a + b) +
+/// 1/8 (c + d) (c == d across a two-face pillow), or boundary(a, b) for odd = (a + b) / 2.
+/// Coarse edge e = (a, b) with odd vertex m = V + e becomes halves (a, m) and (m, b). Face f0 =
+/// edge_faces[2e] runs a -> b with e its edge i0: its corner face at a opposes the half at a
+/// with m_{i0+2}, its corner face at b opposes the half at b with m_{i0+1}. Face f1 runs b -> a
+/// with e its edge i1: at b it opposes m_{i1+2}, at a m_{i1+1}.
+template <class Interior, class Boundary>
+void loop_halves(const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end, Interior&& interior,
+                 Boundary&& boundary) {
+  const std::uint32_t V = coarse.vertex_count;
+  for (std::uint32_t e = begin; e < end; ++e) {
+    const std::uint32_t a = coarse.edge_vertices[2 * e], b = coarse.edge_vertices[2 * e + 1], m = V + e;
+    const std::uint32_t f0 = coarse.edge_faces[2 * e], f1 = coarse.edge_faces[2 * e + 1];
+    if (f1 == kNone) {
+      boundary(a, m);
+      boundary(m, b);
+      continue;
+    }
+    const std::uint32_t i0 = edge_in_face(coarse, f0, e), i1 = edge_in_face(coarse, f1, e);
+    const std::uint32_t* m0 = &coarse.face_edges[3 * f0];
+    const std::uint32_t* m1 = &coarse.face_edges[3 * f1];
+    interior(a, m, V + m0[(i0 + 2) % 3], V + m1[(i1 + 1) % 3]);
+    interior(m, b, V + m0[(i0 + 1) % 3], V + m1[(i1 + 2) % 3]);
+  }
+}
+
+/// The same for the three inner edges of each coarse face in [begin, end): inner edge i of face
+/// f, m_{i+2} -> m_{i+1}, has as first face the corner face at c_{i+2}, as second the centre
+/// face, opposite m_i.
+template <class Interior>
+void loop_inner(const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end, Interior&& interior) {
+  const std::uint32_t V = coarse.vertex_count;
+  for (std::uint32_t f = begin; f < end; ++f) {
+    const std::uint32_t* c = &coarse.triangles[3 * f];
+    const std::uint32_t m[3] = {V + coarse.face_edges[3 * f], V + coarse.face_edges[3 * f + 1], V + coarse.face_edges[3 * f + 2]};
+    for (int i = 0; i < 3; ++i) interior(m[(i + 2) % 3], m[(i + 1) % 3], c[(i + 2) % 3], m[i]);
+  }
+}
 
 /// Mean-preserving update for interpolating schemes (seed 003 eq. 5.9), as its synthesis
 /// (inverse) step: even = even~ - lambda_l * sum(adjacent details), lambda_l = 1 / (2 (1 + c_l)),
