@@ -109,10 +109,11 @@ class WaveletTransform {
 /// Synthesis of level `level` -> `level` + 1 alone: the bits of
 /// WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level),
 /// for a caller that runs one level at a time and needs no tables afterwards (a decoder). For
-/// Loop above the base, and for linear and butterfly without the mean-preserving update, the
-/// level's rows are built and applied a block at a time in one small buffer, so its tables (18
-/// to 36 bytes per vertex of level + 1) are never all in memory and each block is applied while
-/// it is in cache; the other cases build the level's tables.
+/// Loop above the base the predict step is applied as its rows are read off the coarse faces and
+/// the update step's rows are built and applied a block at a time in one small buffer; linear
+/// and butterfly without the mean-preserving update build and apply their rows a block at a time
+/// too. So those tables (18 to 36 bytes per vertex of level + 1) are never in memory, and each
+/// block is applied while it is in cache; the other cases build the level's tables.
 /// \pre 0 <= level < hierarchy.levels(); values hold vertex_count(level + 1) * channels doubles.
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels = 3);
