@@ -13,11 +13,15 @@
 //   least_squares_fit.cpp  the vertices move off the surface where that brings the mesh
 //                          closer to it in the least-squares sense, both ways (Hoppe 1993);
 //                          then untangle.cpp once more.
+//   With --fit loop this runs from two guides (the fitted limit surface, and one that takes the
+//   unfitted limit where that is closer to the input) and keeps the remesh with fewer folds.
 //   (geometry_image.cpp    --method sphere: the octahedral spherical geometry image instead.)
 #include "meshlift/remesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "meshlift/closest_point.h"
@@ -37,8 +41,49 @@ namespace meshlift {
 
 namespace {
 
-/// Decimate, fit the base, build the guide, fit the refined mesh to the surface, untangle, fit it
-/// by least squares, untangle again.
+/// PSNR of a remesh against the input on 200,000 samples a side (±0.01 dB, METRIC.md): what the
+/// automatic choices compare.
+double remesh_psnr(const TriangleMesh& input, const RemeshResult& result) {
+  MetricOptions metric;
+  metric.samples = 200'000;
+  return surface_distance(input, result.mesh.finest(), metric).psnr_db();
+}
+
+/// Fit the refined base to the surface from `guide`, untangle, fit by least squares, untangle
+/// again; count the folds.
+RemeshResult fit_refinement(const SemiRegularHierarchy& hierarchy, const std::vector<double>& guide, const SurfaceQuery& surface,
+                            int least_squares_rounds, const std::function<void(double)>& report) {
+  SemiRegularMesh mesh{hierarchy, {}, {}};
+  SurfaceFitOptions fit_options;
+  fit_options.progress = [&](double f) { report(0.7 * f); };
+  fit_to_surface(mesh, guide, surface, fit_options);
+  // Patches only: the least-squares rounds move every vertex again, and per-vertex moves made
+  // before them shifted their result for no fewer folds after (camel -0.3 dB).
+  UntangleOptions patches_only;
+  patches_only.vertex_passes = 0;
+  patches_only.rounds = 1;
+  untangle(mesh, surface, patches_only);
+  report(0.75);
+  LeastSquaresFitOptions least_squares;
+  least_squares.iterations = least_squares_rounds;
+  fit_least_squares(mesh, surface, least_squares);
+  report(0.85);
+  // The least-squares solve keeps faces that face the input from turning away, but a face can
+  // still end up nearest to another part of the input: untangle once more.
+  untangle(mesh, surface);
+  report(0.9);
+
+  RemeshResult result{std::move(mesh)};
+  const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
+  result.flipped_triangles = folds.flipped.size();
+  result.degenerate_triangles = folds.degenerate.size();
+  report(1);
+  return result;
+}
+
+/// Decimate, fit the base, build the guide, fit the refinement to the surface (fit_refinement).
+/// With --fit loop there are two guides, and the remesh that folds fewer faces, or as many and
+/// is closer to the input, is kept.
 RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateOptions& decimate_options,
                          BaseFit fit, int least_squares_rounds, const std::function<void(double)>& report) {
   const DecimateResult decimated = decimate(mesh, decimate_options);
@@ -53,48 +98,55 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
 
   // Guide = Loop limit of the control mesh refined L times: Loop subdivision is the Loop
   // wavelet's synthesis with zero details, and a vertex's limit point is the same at every level.
-  SemiRegularMesh result_mesh{
-      SemiRegularHierarchy(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles),
-                           decimate_options.levels),
-      {},
-      {}};
-  const SemiRegularHierarchy& h = result_mesh.hierarchy;
-  std::vector<double> subdivided(3 * static_cast<std::size_t>(h.vertex_count(h.levels())), 0.0);
-  std::copy(control.begin(), control.end(), subdivided.begin());
-  WaveletTransform(h, {Scheme::loop}).synthesize(subdivided);
-  std::vector<double> guide(subdivided.size());
-  apply_loop_limit(TriangleMesh{subdivided, h.triangles(h.levels())}, subdivided, guide);
-  // Base vertices stay exactly where decimation left them (on the input surface); without the
-  // fit the limit surface of the base has shrunk away from them.
-  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
+  const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles),
+                               decimate_options.levels);
+  auto limit_surface = [&](const std::vector<double>& control_points) {
+    std::vector<double> subdivided(3 * static_cast<std::size_t>(h.vertex_count(h.levels())), 0.0);
+    std::copy(control_points.begin(), control_points.end(), subdivided.begin());
+    WaveletTransform(h, {Scheme::loop}).synthesize(subdivided);
+    std::vector<double> limit(subdivided.size());
+    apply_loop_limit(TriangleMesh{subdivided, h.triangles(h.levels())}, subdivided, limit);
+    // Base vertices stay exactly where decimation left them (on the input surface); without the
+    // fit the limit surface of the base has shrunk away from them.
+    std::copy(base.positions.begin(), base.positions.end(), limit.begin());
+    return limit;
+  };
+  std::vector<std::vector<double>> guides{limit_surface(control)};
+  if (fit == BaseFit::loop) {
+    // Second guide: where the unfitted limit surface is closer to the input than the fitted one
+    // (the fitted control mesh overshoots around thin parts: camel's head, turbine's blades),
+    // the new vertices of the levels that start at the guide start there instead. Measured (L =
+    // 3, ~4x; fitted / mixed): camel 76.0 dB, 8 folds / 84.4, 0; turbine 53.7, 8 / 60.8, 0 (at
+    // ~2x 70.1, 10 / 75.2, 0); mannequin-devil 76.2, 12 / 76.3, 34; fandisk 78.7 / 77.4, no folds
+    // either way; the others within ±0.5 dB. Neither is better everywhere, hence both.
+    const std::vector<double> plain = limit_surface(base.positions);
+    std::vector<double> mixed = guides[0];
+    const std::uint32_t end = h.vertex_count(std::min(SurfaceFitOptions{}.guide_levels, h.levels()));
+    for (std::uint32_t v = h.vertex_count(0); v < end; ++v) {
+      const std::array<double, 3> fitted{mixed[3 * v], mixed[3 * v + 1], mixed[3 * v + 2]},
+          unfitted{plain[3 * v], plain[3 * v + 1], plain[3 * v + 2]};
+      if (surface.closest(unfitted).distance < surface.closest(fitted).distance)
+        std::copy_n(plain.begin() + 3 * std::ptrdiff_t{v}, 3, mixed.begin() + 3 * std::ptrdiff_t{v});
+    }
+    if (mixed != guides[0]) guides.push_back(std::move(mixed));
+  }
   report(0.2);
 
-  SurfaceFitOptions fit_options;
-  fit_options.progress = [&](double f) { report(0.2 + 0.5 * f); };
-  fit_to_surface(result_mesh, guide, surface, fit_options);
-  // Patches only: the least-squares rounds move every vertex again, and per-vertex moves made
-  // before them shifted their result for no fewer folds after (camel -0.3 dB).
-  UntangleOptions patches_only;
-  patches_only.vertex_passes = 0;
-  patches_only.rounds = 1;
-  untangle(result_mesh, surface, patches_only);
-  report(0.75);
-  LeastSquaresFitOptions least_squares;
-  least_squares.iterations = least_squares_rounds;
-  fit_least_squares(result_mesh, surface, least_squares);
-  report(0.85);
-  // The least-squares solve keeps faces that face the input from turning away, but a face can
-  // still end up nearest to another part of the input: untangle once more.
-  untangle(result_mesh, surface);
-  report(0.9);
-
-  RemeshResult result{std::move(result_mesh)};
-  result.base_vertices = base.vertex_count();
-  const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
-  result.flipped_triangles = folds.flipped.size();
-  result.degenerate_triangles = folds.degenerate.size();
-  report(1);
-  return result;
+  std::optional<RemeshResult> best;
+  double best_psnr = 0;
+  for (std::size_t g = 0; g < guides.size(); ++g) {
+    const double from = 0.2 + 0.8 * static_cast<double>(g) / static_cast<double>(guides.size()),
+                 to = 0.2 + 0.8 * static_cast<double>(g + 1) / static_cast<double>(guides.size());
+    RemeshResult candidate = fit_refinement(h, guides[g], surface, least_squares_rounds,
+                                            [&](double f) { report(from + (to - from) * f); });
+    const std::size_t folds = candidate.flipped_triangles + candidate.degenerate_triangles;
+    const double psnr = guides.size() > 1 ? remesh_psnr(mesh, candidate) : 0;
+    if (!best || folds < best->flipped_triangles + best->degenerate_triangles ||
+        (folds == best->flipped_triangles + best->degenerate_triangles && psnr > best_psnr))
+      best = std::move(candidate), best_psnr = psnr;
+  }
+  best->base_vertices = base.vertex_count();
+  return std::move(*best);
 }
 
 }  // namespace
@@ -170,9 +222,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // Automatic density: the sparser remesh if it is close enough to the input and folds
     // nowhere; else the closer of the two (turbine: 70.0 dB at 2x, 53.4 at 4x). Errors measured
     // on 200,000 samples a side (±0.01 dB, METRIC.md).
-    MetricOptions metric;
-    metric.samples = 200'000;
-    auto psnr = [&](const RemeshResult& r) { return surface_distance(mesh, r.mesh.finest(), metric).psnr_db(); };
+    auto psnr = [&](const RemeshResult& r) { return remesh_psnr(mesh, r); };
     RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5);
     const double sparse_psnr = psnr(sparse);
     if (sparse_psnr >= options.auto_density_psnr && sparse.flipped_triangles == 0 && sparse.degenerate_triangles == 0)
