@@ -16,8 +16,8 @@ namespace meshlift {
 enum class BaseFit {
   none,  ///< base vertices stay where decimation left them (on the input surface)
   loop,  ///< the base's Loop limit surface passes through the decimated points (seed 000); the
-         ///< refinement is fitted from that guide and from one that takes the unfitted limit where
-         ///< it is closer to the input, and the remesh with fewer folds (or as many and closer) kept
+         ///< refinement is placed from that guide and from one that takes the unfitted limit where
+         ///< it is closer to the input, and the one with fewer folds (or as many and closer) goes on
 };
 
 /// Which remesher makes the semi-regular mesh.
