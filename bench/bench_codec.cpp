@@ -166,6 +166,10 @@ int main(int argc, char** argv) {
     h.reset();
     h.emplace(mesh.hierarchy.topology(0), levels, false, false);
   });
+  const Timing loop_decoder_hierarchy_time = best_of(runs, [&] {
+    h.reset();
+    h.emplace(mesh.hierarchy.topology(0), levels, false, false, false);
+  });
   h.reset();
   h.emplace(mesh.hierarchy.topology(0), levels);
   std::optional<WaveletTransform> transform;
@@ -186,6 +190,8 @@ int main(int argc, char** argv) {
   print_timing("  without finest faces", lean_hierarchy_time, V, "(SemiRegularHierarchy(base, L, false): what a decoder");
   print_timing("  + copy_triangles(L)", triangles_time, V, "could build, making the output's faces at its end)");
   print_timing("  and without the tree", decoder_hierarchy_time, V, "(SemiRegularHierarchy(base, L, false, false): the decoder's)");
+  print_timing("  and without level L-1", loop_decoder_hierarchy_time, V,
+               "(SemiRegularHierarchy(base, L, false, false, false): the decoder's for Loop)");
   print_timing("stencil tables", tables_time, V);
   print_timing("synthesis", synthesis_time, V);
   print_timing("analysis", analysis_time, V);
@@ -290,6 +296,19 @@ int main(int argc, char** argv) {
   std::printf("  the decoder's geometry path (no tree, synthesize_level() per level): peak %.0f bytes per vertex,\n"
               "  %.3f s user, %.3f s sys\n",
               level_path_peak / V, path_time.user, path_time.system);
+  // As the decoder runs it now for Loop: also without the topology of level L - 1 (its frames,
+  // synthesis and faces read off level L - 2).
+  const double lean_path_peak = peak_bytes_added([&] {
+    path_time = best_of(1, [&] {
+      SemiRegularHierarchy lean(mesh.hierarchy.topology(0), levels, false, false, false);
+      std::vector<double> positions = mesh.positions;
+      for (int j = 0; j < levels; ++j) synthesize_level(lean, WaveletOptions{Scheme::loop, false}, j, positions);
+      TriangleMesh out{std::move(positions), std::move(lean).release_finest_triangles()};
+    });
+  });
+  std::printf("  ... and without the topology of level L-1 (the decoder's for Loop): peak %.0f bytes per vertex,\n"
+              "  %.3f s user, %.3f s sys\n",
+              lean_path_peak / V, path_time.user, path_time.system);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("  whole bench (encoder, decoder, test mesh): peak %.0f MiB, %.0f bytes per vertex\n",
