@@ -233,8 +233,8 @@ TEST_CASE("CLI: every command refuses to write over its input", "[cli][hostile]"
 
 TEST_CASE("CLI: a run interrupted by a signal leaves the complete output or none", "[cli][hostile]") {
   // A subdivision big enough that writing takes a while (ascii OBJ of 131 k vertices), killed
-  // with SIGINT or SIGTERM at delays spread over its whole run time: whatever the moment, the
-  // directory holds no temporary file, and an output file, if any, is the whole mesh.
+  // with SIGINT or SIGTERM at delays spread over its whole run time (and once not at all): whatever
+  // the moment, the directory holds no temporary file, and an output file, if any, is the whole mesh.
   Scratch s("interrupt");
   const std::string tet = s.file("tet.off", kTetrahedron);
   const auto start = std::chrono::steady_clock::now();
@@ -258,8 +258,13 @@ TEST_CASE("CLI: a run interrupted by a signal leaves the complete output or none
     pid_t pid = 0;
     REQUIRE(posix_spawn(&pid, cli.c_str(), &actions, nullptr, argv.data(), environ) == 0);
     posix_spawn_file_actions_destroy(&actions);
-    std::this_thread::sleep_for(delay);
-    ::kill(pid, step % 2 ? SIGINT : SIGTERM);
+    // The last run is not interrupted: on a loaded machine a run can take longer than 1.1x the
+    // reference run, and then no signal would come late enough for a finished run (seen in CI
+    // runs sharing the machine).
+    if (step < 12) {
+      std::this_thread::sleep_for(delay);
+      ::kill(pid, step % 2 ? SIGINT : SIGTERM);
+    }
     int status = 0;
     REQUIRE(waitpid(pid, &status, 0) == pid);
     if (WIFSIGNALED(status)) ++killed;
