@@ -12,6 +12,7 @@
 #include "../../codec/stencils.h"
 #include "../../codec/zerotree_coder.h"
 #include "meshlift/codec.h"
+#include "lifting_rows.h"
 #include "meshlift/lifting.h"
 #include "test_meshes.h"
 
@@ -164,28 +165,7 @@ TEST_CASE("encode refuses a precision whose magnitudes pass 2^31 - with and with
   }
 }
 
-namespace {
-
-/// A step's rows written out: target, scale, then (source, weight) pairs.
-std::vector<std::vector<double>> expand_rows(const LiftingStep& s) {
-  std::vector<std::vector<double>> rows;
-  const std::uint32_t* source = s.indices.data();
-  std::uint32_t target = s.first_target;
-  for (const LiftingStep::Run& run : s.runs) {
-    const LiftingStep::Pattern& p = s.patterns[run.pattern];
-    for (std::uint32_t r = 0; r < run.rows; ++r, ++target) {
-      std::vector<double> row{static_cast<double>(target), p.scale};
-      for (std::uint32_t k = 0; k < p.arity; ++k) {
-        row.push_back(*source++);
-        row.push_back(s.pattern_weights[p.first_weight + k]);
-      }
-      rows.push_back(std::move(row));
-    }
-  }
-  return rows;
-}
-
-}  // namespace
+using test::expand_rows;
 
 TEST_CASE("Loop rows in blocks are the rows of the whole tables - and synthesize_level gives their bits", "[lifting]") {
   // A pillow (two faces on three vertices) makes merged rows; the grid and disk boundaries and

@@ -15,6 +15,7 @@
 #include "../../codec/stencils.h"
 #include "../../codec/zerotree_coder.h"
 #include "meshlift/codec.h"
+#include "lifting_rows.h"
 #include "meshlift/lifting.h"
 #include "test_meshes.h"
 
@@ -30,24 +31,7 @@ TriangleTopology topology_of(const TriangleMesh& m) {
   return TriangleTopology::build(static_cast<std::uint32_t>(m.vertex_count()), m.triangles);
 }
 
-/// A step's rows written out: target, scale, then (source, weight) pairs.
-std::vector<std::vector<double>> expand_rows(const LiftingStep& s) {
-  std::vector<std::vector<double>> rows;
-  const std::uint32_t* source = s.indices.data();
-  std::uint32_t target = s.first_target;
-  for (const LiftingStep::Run& run : s.runs) {
-    const LiftingStep::Pattern& p = s.patterns[run.pattern];
-    for (std::uint32_t r = 0; r < run.rows; ++r, ++target) {
-      std::vector<double> row{static_cast<double>(target), p.scale};
-      for (std::uint32_t k = 0; k < p.arity; ++k) {
-        row.push_back(*source++);
-        row.push_back(s.pattern_weights[p.first_weight + k]);
-      }
-      rows.push_back(std::move(row));
-    }
-  }
-  return rows;
-}
+using test::expand_rows;
 
 /// The modified butterfly rule (CODEC-NOTES §2) for edge e, source by source as the rule reads,
 /// repeated sources merged in first-seen order (weights summed): target, 1, then (source,
