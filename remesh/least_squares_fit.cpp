@@ -30,6 +30,7 @@ using Vec = vec3::Vec3;
 using vec3::at;
 using vec3::cross;
 using vec3::dot;
+using vec3::face_normal;
 using vec3::sub;
 
 /// The symmetric pattern "v and its neighbours" of a triangle mesh as CSR (rows sorted), and for
@@ -61,11 +62,6 @@ struct Pattern {
     return static_cast<int>(std::lower_bound(begin, end, static_cast<int>(column)) - columns.begin());
   }
 };
-
-Vec face_normal(std::span<const double> x, const std::uint32_t* t) {
-  const Vec a = at(x, t[0]);
-  return cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a));
-}
 
 }  // namespace
 

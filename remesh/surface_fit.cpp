@@ -35,6 +35,8 @@ using vec3::at;
 using vec3::cross;
 using vec3::dot;
 using vec3::sub;
+using vec3::face_normal;
+using vec3::unit;
 
 /// Closest points on the input's boundary edges (brute force: boundaries are short).
 struct BoundaryCurves {
@@ -88,9 +90,7 @@ SurfacePoint shoot(const SurfaceQuery& surface, const Vec& p, const Vec& n, doub
     if (hit.face != kNone && (best.face == kNone || hit.distance < best.distance)) best = hit;
   }
   if (best.face == kNone) return best;
-  const std::uint32_t* t = &input.triangles[3 * std::size_t{best.face}];
-  const Vec a = at(input.positions, t[0]);
-  if (dot(cross(sub(at(input.positions, t[1]), a), sub(at(input.positions, t[2]), a)), n) <= 0) return SurfacePoint{};
+  if (dot(face_normal(input.positions, &input.triangles[3 * std::size_t{best.face}]), n) <= 0) return SurfacePoint{};
   return best;
 }
 
@@ -113,14 +113,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
   // The input face each vertex was projected on (its normal tells which way the surface faces).
   std::vector<std::uint32_t> face_of(total, kNone);
   for (std::uint32_t v = 0; v < h.vertex_count(0); ++v) face_of[v] = surface.closest(at(x, v)).face;
-  auto input_normal = [&](std::uint32_t f) {
-    const Vec a = at(input.positions, input.triangles[3 * f]);
-    Vec n = cross(sub(at(input.positions, input.triangles[3 * f + 1]), a), sub(at(input.positions, input.triangles[3 * f + 2]), a));
-    const double len = std::sqrt(dot(n, n));
-    if (len > 0)
-      for (double& c : n) c /= len;
-    return n;
-  };
+  auto input_normal = [&](std::uint32_t f) { return unit(face_normal(input.positions, &input.triangles[3 * std::size_t{f}])); };
 
   const WaveletTransform butterfly(h, {Scheme::butterfly});
   std::vector<double> next;
@@ -216,8 +209,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
       std::size_t folded = 0;
       for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
         const std::uint32_t* t = &triangles[3 * f];
-        const Vec a = at(x, t[0]);
-        const Vec n = cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a));
+        const Vec n = face_normal(x, t);
         Vec reference{0, 0, 0};
         for (int i = 0; i < 3; ++i) {
           const Vec m = input_normal(face_of[t[i]]);
@@ -255,10 +247,7 @@ FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surf
       continue;
     }
     const SurfacePoint s = surface.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
-    const std::uint32_t* t = &input.triangles[3 * s.face];
-    const Vec ia = at(input.positions, t[0]);
-    const Vec in = cross(sub(at(input.positions, t[1]), ia), sub(at(input.positions, t[2]), ia));
-    if (dot(n, in) < 0) result.flipped.push_back(static_cast<std::uint32_t>(f));
+    if (dot(n, face_normal(input.positions, &input.triangles[3 * std::size_t{s.face}])) < 0) result.flipped.push_back(static_cast<std::uint32_t>(f));
   }
   return result;
 }

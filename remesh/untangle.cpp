@@ -23,13 +23,8 @@ using vec3::at;
 using vec3::cross;
 using vec3::dot;
 using vec3::sub;
-
-Vec unit(Vec v) {
-  const double length = std::sqrt(dot(v, v));
-  if (length > 0)
-    for (double& c : v) c /= length;
-  return v;
-}
+using vec3::face_normal;
+using vec3::unit;
 
 /// One linear function of a 2-D offset d: g·d + h.
 struct Linear2 {
@@ -98,9 +93,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   const std::vector<std::uint32_t>& incident = adjacency.faces;
 
   auto input_normal = [&](std::uint32_t f) {
-    const std::uint32_t* t = &input.triangles[3 * std::size_t{f}];
-    const Vec a = at(input.positions, t[0]);
-    return unit(cross(sub(at(input.positions, t[1]), a), sub(at(input.positions, t[2]), a)));
+    return unit(face_normal(input.positions, &input.triangles[3 * std::size_t{f}]));
   };
   // find_fold_overs()'s test; a face of zero area counts as folded too.
   auto centroid = [&](std::size_t f) {
@@ -109,9 +102,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     return Vec{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
   };
   auto is_folded = [&](std::size_t f) {
-    const std::uint32_t* t = &triangles[3 * f];
-    const Vec a = at(x, t[0]);
-    const Vec normal = cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a));
+    const Vec normal = face_normal(x, &triangles[3 * f]);
     if (dot(normal, normal) == 0) return true;
     return dot(normal, input_normal(surface.closest(centroid(f)).face)) < 0;
   };
@@ -290,17 +281,15 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         // ~4x, camel / cow / turbine / mannequin-devil folds): the first alone 9 / 16 / 19 / 21,
         // the first two 7 / 12 / 10 / 14, all three 8 / 9 / 8 / 12.
         const Vec n = input_normal(surface.closest(xv).face);
-        Vec mean_normal{0, 0, 0};
-        for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
-          const Vec m = input_normal(surface.closest(at(x, adjacency.neighbours[k])).face);
-          for (int c = 0; c < 3; ++c) mean_normal[c] += m[c];
-        }
+        auto add_input_normal = [&](Vec& sum, const Vec& p) {
+          const Vec m = input_normal(surface.closest(p).face);
+          for (int c = 0; c < 3; ++c) sum[c] += m[c];
+        };
+        Vec mean_normal{0, 0, 0}, face_normal_mean{0, 0, 0};
+        for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k)
+          add_input_normal(mean_normal, at(x, adjacency.neighbours[k]));
+        for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) add_input_normal(face_normal_mean, centroid(incident[j]));
         mean_normal = unit(mean_normal);
-        Vec face_normal_mean{0, 0, 0};
-        for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
-          const Vec m = input_normal(surface.closest(centroid(incident[j])).face);
-          for (int c = 0; c < 3; ++c) face_normal_mean[c] += m[c];
-        }
         face_normal_mean = unit(face_normal_mean);
 
         auto ring_folds = [&] {
@@ -310,11 +299,8 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         };
         auto ring_min_area = [&] {  // along n
           double smallest = std::numeric_limits<double>::infinity();
-          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
-            const std::uint32_t* t = &triangles[3 * std::size_t{incident[j]}];
-            const Vec a = at(x, t[0]);
-            smallest = std::min(smallest, 0.5 * dot(n, cross(sub(at(x, t[1]), a), sub(at(x, t[2]), a))));
-          }
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+            smallest = std::min(smallest, 0.5 * dot(n, face_normal(x, &triangles[3 * std::size_t{incident[j]}])));
           return smallest;
         };
         Vec best = xv;
