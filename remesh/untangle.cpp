@@ -7,10 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
+#include "meshlift/surface_fit.h"
 #include "adjacency.h"
 #include "parallel.h"
 #include "vec3.h"
@@ -95,16 +96,15 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   auto input_normal = [&](std::uint32_t f) {
     return unit(face_normal(input.positions, &input.triangles[3 * std::size_t{f}]));
   };
-  // find_fold_overs()'s test; a face of zero area counts as folded too.
   auto centroid = [&](std::size_t f) {
     const std::uint32_t* t = &triangles[3 * f];
     const Vec a = at(x, t[0]), b = at(x, t[1]), c = at(x, t[2]);
     return Vec{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
   };
+  // find_fold_overs()'s test; a face of zero area counts as folded too.
   auto is_folded = [&](std::size_t f) {
     const Vec normal = face_normal(x, &triangles[3 * f]);
-    if (dot(normal, normal) == 0) return true;
-    return dot(normal, input_normal(surface.closest(centroid(f)).face)) < 0;
+    return dot(normal, normal) == 0 || faces_away(x, &triangles[3 * f], surface);
   };
   std::vector<std::uint8_t> folded(faces);
   parallel_blocks(faces, 0, [&](std::size_t begin, std::size_t end) {

@@ -49,4 +49,8 @@ struct FoldOvers {
 };
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface);
 
+/// The flip test of find_fold_overs() for face t (three vertex indices) of the xyz array x: its
+/// normal makes more than 90° with that of the surface face closest to its centroid.
+bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface);
+
 }  // namespace meshlift
