@@ -1,4 +1,4 @@
-"""Tests of tools/render.py, tools/plot_rd.py and tools/plot_sphere_function.py: rasterizer coverage and depth, mesh readers,
+"""Tests of tools/render.py, tools/plot_rd.py, tools/plot_sphere_function.py and tools/remesh_sweep.py: rasterizer coverage and depth, mesh readers,
 camera framing, BD-rate on curves with known answers, rd.csv handling.
 
 Run: /usr/bin/python3 -m unittest discover -s tests/tools -p 'test_plots.py'   (ctest: "tools: python plots")
@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 
 import plot_rd  # noqa: E402
 import plot_sphere_function  # noqa: E402
+import remesh_sweep  # noqa: E402
 import render  # noqa: E402
 
 
@@ -411,6 +412,46 @@ class RdCsvTest(unittest.TestCase):
                 self.assertEqual(plot_rd.main([directory]), plot_rd.EXIT_BAD_INPUT)
             self.assertIn("missing columns", err.getvalue())
 
+
+
+class RemeshSweepTest(unittest.TestCase):
+    @staticmethod
+    def row(**fields):
+        row = {"mesh": "m", "levels": 3, "density": "4", "input_vertices": 1000, "output_vertices": 4000,
+               "ratio": "4.00", "base_vertices": 63, "psnr_db": "80.0", "flipped": "0", "degenerate": "0",
+               "error": "", "same_as_density": ""}
+        row.update(fields)
+        return row
+
+    def test_targets_name_every_miss(self):
+        self.assertEqual(remesh_sweep.targets_met(self.row()), "yes")
+        self.assertEqual(remesh_sweep.targets_met(self.row(ratio="4.19")), "yes")  # within 5 % of 4x
+        self.assertEqual(remesh_sweep.targets_met(self.row(psnr_db="74.9", ratio="4.30", flipped="2", degenerate="1")),
+                         "no (74.9 < 75 dB, 4.30x > 4x, 3 folds)")
+        self.assertEqual(remesh_sweep.targets_met(self.row(density="16", psnr_db="84.0")), "no (84.0 < 85 dB)")
+        self.assertEqual(remesh_sweep.targets_met(self.row(flipped="1")), "no (1 folds)")
+        self.assertEqual(remesh_sweep.targets_met(self.row(density="auto")), "")
+        self.assertEqual(remesh_sweep.targets_met(self.row(density="2")), "")
+
+    def test_a_denser_run_repeats_a_decimation_that_stopped_above_its_base(self):
+        # ceil(16 * 1000 / 64) = 250: a D = 4 decimation that stopped at 250 vertices serves D = 16,
+        # one that stopped at 249 does not; auto repeats D = 4 when it stopped above ceil(4 * 1000 / 64) = 63.
+        stopped = self.row(base_vertices=250)
+        self.assertIs(remesh_sweep.same_remesh([stopped], "m", 3, "16"), stopped)
+        self.assertIsNone(remesh_sweep.same_remesh([self.row(base_vertices=249)], "m", 3, "16"))
+        self.assertIsNone(remesh_sweep.same_remesh([stopped], "m", 4, "16"))
+        self.assertIs(remesh_sweep.same_remesh([self.row(base_vertices=64)], "m", 3, "auto")["base_vertices"], 64)
+        self.assertIsNone(remesh_sweep.same_remesh([self.row(base_vertices=63)], "m", 3, "auto"))
+
+    def test_off_vertex_count_reads_split_and_commented_headers(self):
+        with tempfile.TemporaryDirectory() as directory:
+            cases = {"a.off": "OFF 8 12 0\n", "b.off": "# c\nOFF\n# c\n7 3 0\n", "c.off": "PLY 8\n", "d.off": "OFF\n"}
+            for name, text in cases.items():
+                with open(os.path.join(directory, name), "w") as f:
+                    f.write(text)
+            counts = {name: remesh_sweep.off_vertex_count(os.path.join(directory, name)) for name in cases}
+        self.assertEqual(counts, {"a.off": 8, "b.off": 7, "c.off": 0, "d.off": 0})
+        self.assertEqual(remesh_sweep.off_vertex_count("/nonexistent.off"), 0)
 
 if __name__ == "__main__":
     unittest.main()
