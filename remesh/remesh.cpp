@@ -21,7 +21,9 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <optional>
 #include <string>
 
@@ -41,6 +43,21 @@
 namespace meshlift {
 
 namespace {
+
+/// Appends (stage, seconds since the previous lap) to a list of stage times.
+class StageClock {
+ public:
+  explicit StageClock(std::vector<std::pair<std::string, double>>& stages) : stages_(stages) {}
+  void lap(const char* stage) {
+    const auto now = std::chrono::steady_clock::now();
+    stages_.emplace_back(stage, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& stages_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 /// PSNR of a remesh against the input on 200,000 samples a side (±0.01 dB, METRIC.md): what the
 /// automatic choices compare.
@@ -66,13 +83,15 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
   return mesh;
 }
 
-/// Decimate, fit the base, build the guide, place the refinement on the surface and untangle it
-/// (place_refinement), fit it by least squares, untangle again. With --fit loop there are two
-/// guides and the placed refinement that folds fewer faces, or as many and is closer to the
-/// input, goes on.
-RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateOptions& decimate_options,
-                         BaseFit fit, int least_squares_rounds, const std::function<void(double)>& report) {
-  const DecimateResult decimated = decimate(mesh, decimate_options);
+/// From the decimated base: fit the base, build the guide, place the refinement on the surface
+/// and untangle it (place_refinement), fit it by least squares, untangle again. With --fit loop
+/// there are two guides and the placed refinement that folds fewer faces, or as many and is
+/// closer to the input, goes on.
+RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateResult& decimated,
+                                  int levels, BaseFit fit, int least_squares_rounds,
+                                  const std::function<void(double)>& report,
+                                  std::vector<std::pair<std::string, double>>& stages) {
+  StageClock clock(stages);
   report(0.1);
   const TriangleMesh& base = decimated.base;
 
@@ -80,12 +99,13 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   // surface interpolates the base vertices.
   std::vector<double> control = base.positions;
   if (fit == BaseFit::loop) control = fit_loop(base).control.positions;
+  clock.lap("fit base");
   report(0.15);
 
   // Guide = Loop limit of the control mesh refined L times: Loop subdivision is the Loop
   // wavelet's synthesis with zero details, and a vertex's limit point is the same at every level.
   const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles),
-                               decimate_options.levels);
+                               levels);
   auto limit_surface = [&](const std::vector<double>& control_points) {
     std::vector<double> subdivided(3 * static_cast<std::size_t>(h.vertex_count(h.levels())), 0.0);
     std::copy(control_points.begin(), control_points.end(), subdivided.begin());
@@ -116,45 +136,56 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
     }
     if (mixed != guides[0]) guides.push_back(std::move(mixed));
   }
+  clock.lap("guides");
   report(0.2);
 
   // Each guide's refinement is placed and its patches untangled; the one with fewer folded
   // faces, or as many and closer to the input, goes on. Measured on the corpus (L = 3, ~4x): the
   // choice made here is the one made after the least-squares fit and the last untangling, but for
-  // homer (79.72 against 79.76 dB), at a fifth of the cost of finishing both.
-  std::optional<SemiRegularMesh> placed;
-  std::size_t placed_folds = 0;
-  double placed_psnr = 0;
-  for (std::size_t g = 0; g < guides.size(); ++g) {
-    const double from = 0.2 + 0.55 * static_cast<double>(g) / static_cast<double>(guides.size()),
-                 to = 0.2 + 0.55 * static_cast<double>(g + 1) / static_cast<double>(guides.size());
-    SemiRegularMesh candidate = place_refinement(h, guides[g], surface, [&](double f) { report(from + (to - from) * f); });
-    if (guides.size() == 1) {
-      placed = std::move(candidate);
-      break;
+  // homer (79.72 against 79.76 dB), at a fifth of the cost of finishing both. The second guide's
+  // placement runs on a thread of its own: the patch untangling and the comparison are partly
+  // serial, so the two overlap on two cores (the result is the same as one after the other).
+  struct Placed {
+    std::optional<SemiRegularMesh> mesh;
+    std::size_t folds = 0;
+    double psnr = 0;
+  };
+  auto place_and_judge = [&](std::size_t g, const std::function<void(double)>& progress) {
+    Placed placed{place_refinement(h, guides[g], surface, progress)};
+    if (guides.size() > 1) {
+      const FoldOvers folds = find_fold_overs(placed.mesh->finest(), surface);
+      placed.folds = folds.flipped.size() + folds.degenerate.size();
+      placed.psnr = remesh_psnr(mesh, *placed.mesh);
     }
-    const FoldOvers folds = find_fold_overs(candidate.finest(), surface);
-    const std::size_t count = folds.flipped.size() + folds.degenerate.size();
-    const double psnr = remesh_psnr(mesh, candidate);
-    if (!placed || count < placed_folds || (count == placed_folds && psnr > placed_psnr))
-      placed = std::move(candidate), placed_folds = count, placed_psnr = psnr;
+    return placed;
+  };
+  std::future<Placed> second;
+  if (guides.size() > 1) second = std::async(std::launch::async, place_and_judge, 1, [](double) {});
+  Placed placed = place_and_judge(0, [&](double f) { report(0.2 + 0.55 * f); });
+  if (second.valid()) {
+    Placed other = second.get();
+    if (other.folds < placed.folds || (other.folds == placed.folds && other.psnr > placed.psnr)) placed = std::move(other);
   }
+  clock.lap(guides.size() > 1 ? "place and compare guides" : "place");
   report(0.75);
 
   LeastSquaresFitOptions least_squares;
   least_squares.iterations = least_squares_rounds;
-  fit_least_squares(*placed, surface, least_squares);
+  fit_least_squares(*placed.mesh, surface, least_squares);
+  clock.lap("least squares");
   report(0.85);
   // The least-squares solve keeps faces that face the input from turning away, but a face can
   // still end up nearest to another part of the input: untangle once more.
-  untangle(*placed, surface);
+  untangle(*placed.mesh, surface);
+  clock.lap("untangle");
   report(0.9);
 
-  RemeshResult result{std::move(*placed)};
+  RemeshResult result{std::move(*placed.mesh)};
   result.base_vertices = base.vertex_count();
   const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
   result.flipped_triangles = folds.flipped.size();
   result.degenerate_triangles = folds.degenerate.size();
+  clock.lap("check folds");
   report(1);
   return result;
 }
@@ -216,13 +247,22 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     report(1);
     return result;
   }
-  DecimateOptions decimate_options;
-  decimate_options.levels = options.levels;
-  auto by_decimation = [&](double density, double from, double to) {
+  auto decimate_for = [&](double density) {
+    DecimateOptions decimate_options;
+    decimate_options.levels = options.levels;
     decimate_options.target_vertices =
         options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, density);
-    RemeshResult r = remesh_by_decimation(mesh, surface, decimate_options, options.fit, options.least_squares_rounds,
-                                          [&](double f) { report(from + (to - from) * f); });
+    return decimate(mesh, decimate_options);
+  };
+  std::vector<std::pair<std::string, double>> stages;  // of every decimation remesh made
+  // `base`: a decimation started earlier (else decimated here).
+  auto by_decimation = [&](double density, double from, double to, std::future<DecimateResult>* base = nullptr) {
+    StageClock clock(stages);
+    const DecimateResult decimated = base ? base->get() : decimate_for(density);
+    clock.lap(base ? "decimate (rest of the one run alongside)" : "decimate");
+    RemeshResult r = remesh_by_decimation(mesh, surface, decimated, options.levels, options.fit,
+                                          options.least_squares_rounds, [&](double f) { report(from + (to - from) * f); },
+                                          stages);
     r.density = options.base_vertices != 0 ? 0 : density;
     return r;
   };
@@ -232,7 +272,16 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // Automatic density: the sparser remesh if it is close enough to the input and folds
     // nowhere; else the closer of the two (turbine: 70.0 dB at 2x, 53.4 at 4x). Errors measured
     // on 200,000 samples a side (±0.01 dB, METRIC.md).
-    auto psnr = [&](const RemeshResult& r) { return remesh_psnr(mesh, r.mesh); };
+    auto psnr = [&](const RemeshResult& r) {
+      StageClock clock(stages);
+      const double db = remesh_psnr(mesh, r.mesh);
+      clock.lap("choose density");
+      return db;
+    };
+    // The denser base is decimated alongside the sparser remesh (decimation is single-threaded
+    // and would leave the second core idle); it is used only if the sparser remesh falls short.
+    std::future<DecimateResult> dense_base =
+        std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1]); });
     RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5);
     const double sparse_psnr = psnr(sparse);
     if (sparse_psnr >= options.auto_density_psnr && sparse.flipped_triangles == 0 && sparse.degenerate_triangles == 0)
@@ -240,9 +289,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // A decimation that stopped at or above the denser target would give the same base (cow
     // stops at 193 vertices for both).
     if (sparse.base_vertices >= automatic_remesh_base(mesh, options.levels, kAutoDensities[1])) return sparse;
-    RemeshResult dense = by_decimation(kAutoDensities[1], 0.5, 1);
+    RemeshResult dense = by_decimation(kAutoDensities[1], 0.5, 1, &dense_base);
     return psnr(dense) >= sparse_psnr ? dense : sparse;
   }();
+  result.stage_seconds = std::move(stages);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
     // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.
     const double target = result.mesh.hierarchy.vertex_count(result.mesh.hierarchy.levels());

@@ -234,22 +234,32 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
   }
 }
 
-bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface) {
+bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, std::uint32_t* hint) {
   const Vec a = at(x, t[0]), b = at(x, t[1]), c = at(x, t[2]);
-  const SurfacePoint s = surface.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
+  const SurfacePoint s = surface.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3},
+                                         hint ? *hint : kNone);
+  if (hint) *hint = s.face;
   const TriangleMesh& input = surface.mesh();
   return dot(cross(sub(b, a), sub(c, a)), face_normal(input.positions, &input.triangles[3 * std::size_t{s.face}])) < 0;
 }
 
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface) {
-  FoldOvers result;
   const double diagonal = bounding_box_diagonal(remeshed.positions);
-  for (std::size_t f = 0; f < remeshed.face_count(); ++f) {
-    const std::uint32_t* t = &remeshed.triangles[3 * f];
-    const Vec n = face_normal(remeshed.positions, t);
-    if (0.5 * std::sqrt(dot(n, n)) <= 1e-14 * diagonal * diagonal) result.degenerate.push_back(static_cast<std::uint32_t>(f));
-    else if (faces_away(remeshed.positions, t, surface)) result.flipped.push_back(static_cast<std::uint32_t>(f));
-  }
+  enum : std::uint8_t { kGood, kDegenerate, kFlipped };
+  std::vector<std::uint8_t> kind(remeshed.face_count());
+  parallel_blocks(kind.size(), 0, [&](std::size_t begin, std::size_t end) {
+    std::uint32_t hint = kNone;  // consecutive faces are neighbours in a semi-regular mesh
+    for (std::size_t f = begin; f < end; ++f) {
+      const std::uint32_t* t = &remeshed.triangles[3 * f];
+      const Vec n = face_normal(remeshed.positions, t);
+      kind[f] = 0.5 * std::sqrt(dot(n, n)) <= 1e-14 * diagonal * diagonal ? kDegenerate
+                : faces_away(remeshed.positions, t, surface, &hint) ? kFlipped
+                                                                    : kGood;
+    }
+  });
+  FoldOvers result;
+  for (std::size_t f = 0; f < kind.size(); ++f)
+    if (kind[f] != kGood) (kind[f] == kDegenerate ? result.degenerate : result.flipped).push_back(static_cast<std::uint32_t>(f));
   return result;
 }
 

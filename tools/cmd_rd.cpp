@@ -4,7 +4,6 @@
 // Draco's tools are on PATH, Draco at each quantization. Every decoded mesh is compared with the
 // ORIGINAL input by the surface metric (metric.h; CODEC-NOTES §7). Rows go to DIR/rd.csv and
 // DIR/rd.json, rewritten after every row, so a failure later in the sweep keeps what came before.
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -66,12 +65,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Peak resident set size of this process so far, in MiB (getrusage ru_maxrss, KiB on Linux).
-double peak_rss_mb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
 
 std::string format_number(double x, const char* format = "%.6g") {
   if (std::isnan(x)) return "";

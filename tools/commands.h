@@ -46,4 +46,7 @@ void apply_frame_options(const FrameArgs& args, Options& options) {
 /// Refuses (returns false and prints why) when `output` names the same file as `input`.
 bool check_distinct_output(const std::string& input, const std::string& output);
 
+/// Peak resident set size of this process so far, in MiB (getrusage ru_maxrss, KiB on Linux).
+double peak_rss_mb();
+
 }  // namespace meshlift::cli

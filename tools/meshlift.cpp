@@ -1,4 +1,6 @@
 // meshlift: multiresolution wavelet mesh codec, command-line front end.
+#include <sys/resource.h>
+
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -16,6 +18,12 @@ bool check_distinct_output(const std::string& input, const std::string& output) 
     return false;
   }
   return true;
+}
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
 }  // namespace meshlift::cli

@@ -2,11 +2,23 @@
 
 #include <cstdio>
 #include <iostream>
+#include <string>
 
+#include "commands.h"
 #include "meshlift/metric.h"
 #include "progress.h"
 
 namespace meshlift::cli {
+
+namespace {
+
+std::string format_seconds(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f s", seconds);
+  return text;
+}
+
+}  // namespace
 
 void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::string& method_flag) {
   cmd.add_option(method_flag, options.method,
@@ -73,6 +85,11 @@ void print_remesh_summary(const std::string& path, const PolygonMesh& input, con
   std::fprintf(stderr, "%s: %.0f vertices -> %s remesh: base %zu, %d levels, %.0f vertices (%.2fx the input) in %.2f s\n",
                path.c_str(), in, result.method == RemeshMethod::sphere ? "sphere" : "decimation", result.base_vertices,
                h.levels(), out, out / in, seconds);
+  std::string stages;
+  for (const auto& [stage, stage_seconds] : result.stage_seconds)
+    stages += (stages.empty() ? "" : ", ") + stage + " " + format_seconds(stage_seconds);
+  if (!stages.empty()) std::fprintf(stderr, "%s: stages: %s\n", path.c_str(), stages.c_str());
+  std::fprintf(stderr, "%s: peak memory %.0f MiB\n", path.c_str(), peak_rss_mb());
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
                result.degenerate_triangles);
   const SurfaceDistance d = surface_distance(to_triangle_mesh(input), result.mesh.finest());

@@ -6,6 +6,9 @@
 #include <cstddef>
 #include <functional>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "meshlift/mesh.h"
 #include "meshlift/semi_regular.h"
@@ -77,6 +80,10 @@ struct RemeshResult {
   /// both 0 in a good remesh; docs/RESULTS.md counts them on the corpus.
   std::size_t flipped_triangles = 0;
   std::size_t degenerate_triangles = 0;
+  /// Wall-clock seconds per stage, in pipeline order (decimate, fit base, guides, place,
+  /// least squares, untangle, check; a stage run twice, as the automatic density may, is listed
+  /// twice): where a remesh spends its time (docs/RESULTS.md).
+  std::vector<std::pair<std::string, double>> stage_seconds{};
 };
 
 /// The base size remesh() chooses: about `density` x the input's vertices after `levels`

@@ -50,7 +50,11 @@ struct FoldOvers {
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface);
 
 /// The flip test of find_fold_overs() for face t (three vertex indices) of the xyz array x: its
-/// normal makes more than 90° with that of the surface face closest to its centroid.
-bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface);
+/// normal makes more than 90° with that of the surface face closest to its centroid. `hint`, if
+/// given, holds a surface face likely near (kNone: none) and receives the closest one: a query
+/// started there is faster when faces are tested in an order that keeps neighbours together
+/// (the answer does not depend on it: closest_point.h).
+bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
+                std::uint32_t* hint = nullptr);
 
 }  // namespace meshlift
