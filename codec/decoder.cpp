@@ -161,18 +161,23 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
     // rate).
     const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
+    // The vertex normals of every level in one array, sized for the largest (the last) level.
+    std::vector<frames::Vec3> normals;
+    if (header.local_frames && result.level > 0) reserve_large(normals, h.vertex_count(result.level - 1));
     for (int j = 0; j < result.level; ++j) {
       if (!header.local_frames) {
         synthesize_level(h, wavelets, j, values, K);
         continue;
       }
       // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache.
-      const frames::LevelFrames level_frames(h, j, values, K);
+      frames::LevelFrames level_frames(h, j, values, K, std::move(normals));
       const std::uint32_t first_odd = h.vertex_count(j);
       synthesize_level(h, wavelets, j, values, K, [&](std::uint32_t first, std::uint32_t count) {
         level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
       });
+      normals = std::move(level_frames).release_storage();
     }
+    normals = {};
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).
     const std::uint32_t n = h.vertex_count(result.level);

@@ -29,10 +29,10 @@ constexpr std::uint32_t kBlock = FrameBlock::kCapacity;
 constexpr std::uint32_t kLanes = 4;
 
 /// A block's inputs besides n = N_a + N_b (in FrameBlock::nx..nz): the edge p_b - p_a; and the
-/// lengths that decide the degenerate cases.
+/// lengths that decide the degenerate cases (|edge| as its square: see edge_along_normal).
 struct Scratch {
   alignas(32) double ex[kBlock], ey[kBlock], ez[kBlock];
-  alignas(32) double length[kBlock], t1_length[kBlock], edge_length[kBlock];
+  alignas(32) double length[kBlock], t1_length[kBlock], edge_squared[kBlock];
 };
 
 // One block's frames of the regular case, component by component: n normalized, t1, t2, and the
@@ -53,7 +53,7 @@ struct Scratch {
     const auto along = Add(Add(Mul(a, x), Mul(c, y)), Mul(e, z));                                           \
     auto u = Sub(a, Mul(along, x)), v = Sub(c, Mul(along, y)), w = Sub(e, Mul(along, z));                    \
     const auto tl = Sqrt(Add(Add(Mul(u, u), Mul(v, v)), Mul(w, w)));                                        \
-    const auto el = Sqrt(Add(Add(Mul(a, a), Mul(c, c)), Mul(e, e)));                                        \
+    const auto ee = Add(Add(Mul(a, a), Mul(c, c)), Mul(e, e));                                               \
     /* t1 = (1 / |t1|) t1; t2 = n x t1 */                                                                    \
     const auto inverse_t = Div(Set(1.0), tl);                                                                \
     u = Mul(inverse_t, u), v = Mul(inverse_t, v), w = Mul(inverse_t, w);                                     \
@@ -62,7 +62,7 @@ struct Scratch {
     Store(b.t2x + i, Sub(Mul(y, w), Mul(z, v)));                                                             \
     Store(b.t2y + i, Sub(Mul(z, u), Mul(x, w)));                                                             \
     Store(b.t2z + i, Sub(Mul(x, v), Mul(y, u)));                                                             \
-    Store(s.length + i, l), Store(s.t1_length + i, tl), Store(s.edge_length + i, Mul(Set(1e-12), el));       \
+    Store(s.length + i, l), Store(s.t1_length + i, tl), Store(s.edge_squared + i, ee);                       \
   }
 
 __attribute__((target("avx"))) void compute_avx(FrameBlock& b, Scratch& s, std::uint32_t count) {
@@ -87,7 +87,7 @@ void compute(FrameBlock& b, Scratch& s, std::uint32_t count) {
     const Vec n = (1 / l) * Vec{b.nx[i], b.ny[i], b.nz[i]}, edge{s.ex[i], s.ey[i], s.ez[i]};
     Vec t1 = edge - dot(edge, n) * n;
     const double tl = std::sqrt(dot(t1, t1));
-    s.edge_length[i] = 1e-12 * std::sqrt(dot(edge, edge));
+    s.edge_squared[i] = dot(edge, edge);
     t1 = (1 / tl) * t1;
     const Vec t2 = cross(n, t1);
     b.nx[i] = n.x, b.ny[i] = n.y, b.nz[i] = n.z;
@@ -171,9 +171,9 @@ void vertex_normals(const Level& level, std::span<const double> coarse, std::siz
 
 /// The frames of edges [begin, end) in blocks of up to kBlock from `begin`. An edge's frame
 /// depends on its own inputs only (the lanes are independent), so any blocking gives its bits.
-template <class Level>
+template <class Level, class Visit>
 void frame_blocks(const Level& level, std::span<const double> coarse, std::size_t s, const std::vector<Vec>& normal,
-                  std::uint32_t begin, std::uint32_t end, const std::function<void(const FrameBlock&)>& visit) {
+                  std::uint32_t begin, std::uint32_t end, Visit&& visit) {
   auto position = [&](std::uint32_t v) { return Vec{coarse[s * v], coarse[s * v + 1], coarse[s * v + 2]}; };
   // Per edge: n = normalize(N_a + N_b), t1 = normalize(edge - (edge . n) n), t2 = n x t1
   // (local_frames.h), block by block.
@@ -198,7 +198,7 @@ void frame_blocks(const Level& level, std::span<const double> coarse, std::size_
     for (std::uint32_t i = 0; i < count; ++i) {
       const double length = scratch.length[i];
       block.identity[i] = !(length > 0) || !std::isfinite(length);  // identity frame: (x, y, z) stay
-      if (!block.identity[i] && !(scratch.t1_length[i] > scratch.edge_length[i])) [[unlikely]] {
+      if (!block.identity[i] && edge_along_normal(scratch.t1_length[i], scratch.edge_squared[i])) [[unlikely]] {
         // The edge is (nearly) along the normal, or has no length: use the axis least aligned with n.
         const Vec n{block.nx[i], block.ny[i], block.nz[i]};
         const double ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
@@ -216,8 +216,9 @@ void frame_blocks(const Level& level, std::span<const double> coarse, std::size_
 
 }  // namespace
 
-LevelFrames::LevelFrames(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride)
-    : hierarchy_(h), level_(level), coarse_(coarse), stride_(static_cast<std::size_t>(stride)) {
+LevelFrames::LevelFrames(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride,
+                         std::vector<Vec3> storage)
+    : hierarchy_(h), level_(level), coarse_(coarse), stride_(static_cast<std::size_t>(stride)), normal_(std::move(storage)) {
   if (h.has_topology(level))
     vertex_normals(StoredLevel{h.topology(level)}, coarse, stride_, normal_);
   else
@@ -233,11 +234,31 @@ void LevelFrames::for_each_block(std::uint32_t begin, std::uint32_t end, const s
     frame_blocks(RefinedLevel{hierarchy_.topology(level_ - 1)}, coarse_, stride_, normal_, begin, end, visit);
 }
 
+namespace {
+
+/// Rotates the details of the odd vertices of one block (FrameBlock::rotate, the direction known
+/// at compile time): the decoder's inner loop.
+template <Direction D>
+void rotate_block(const FrameBlock& block, double* first, std::size_t stride) {
+  for (std::uint32_t i = 0; i < block.count; ++i) block.rotate(i, first + stride * i, D);
+}
+
+}  // namespace
+
 void LevelFrames::rotate(std::uint32_t begin, std::uint32_t end, std::span<double> details, Direction direction) const {
-  const std::uint32_t first_odd = hierarchy_.vertex_count(level_);
-  for_each_block(begin, end, [&](const FrameBlock& block) {
-    for (std::uint32_t i = 0; i < block.count; ++i) block.rotate(i, &details[stride_ * (first_odd + block.first_edge + i)], direction);
-  });
+  if (begin >= end) return;
+  double* first = details.data() + stride_ * (std::size_t{hierarchy_.vertex_count(level_)} + begin);
+  auto visit = [&](const FrameBlock& block) {
+    double* d = first + stride_ * (block.first_edge - begin);
+    if (direction == Direction::to_global)
+      rotate_block<Direction::to_global>(block, d, stride_);
+    else
+      rotate_block<Direction::to_local>(block, d, stride_);
+  };
+  if (hierarchy_.has_topology(level_))
+    frame_blocks(StoredLevel{hierarchy_.topology(level_)}, coarse_, stride_, normal_, begin, end, visit);
+  else
+    frame_blocks(RefinedLevel{hierarchy_.topology(level_ - 1)}, coarse_, stride_, normal_, begin, end, visit);
 }
 
 void for_each_frame_block(const SemiRegularHierarchy& h, int level, std::span<const double> coarse, int stride,

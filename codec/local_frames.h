@@ -15,6 +15,7 @@
 // along n -> t1 from the coordinate axis least aligned with n.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -28,6 +29,17 @@ enum class Direction {
   to_local,   ///< (x, y, z) -> (n, t1, t2): d_local = R^T d, R = [n t1 t2]
   to_global,  ///< (n, t1, t2) -> (x, y, z): d = R d_local
 };
+
+/// FORMAT.md §3's test for an edge (nearly) along the normal, !(|t1| > 1e-12 |edge|), given |t1|
+/// and edge . edge, with |edge| = sqrt(edge . edge) computed only where the answer is in doubt.
+/// When |t1|^2 > 4e-24 |edge|^2 (both sides rounded, |edge|^2 a normal double), |t1| > 2e-12
+/// |edge| (1 - 2^-52), which the spec's 1e-12 * sqrt(edge . edge), rounded up twice at most,
+/// cannot reach: the answer is "no" without the square root (one fewer per edge in the packed
+/// loop). Infinities and NaNs fail that test and take the spec's path.
+inline bool edge_along_normal(double t1_length, double edge_squared) {
+  if (t1_length * t1_length > 4e-24 * edge_squared && edge_squared > 1e-200) [[likely]] return false;
+  return !(t1_length > 1e-12 * std::sqrt(edge_squared));
+}
 
 /// The frames of up to kCapacity consecutive edges of one level, component by component: entry
 /// i is edge first_edge + i, whose odd vertex is vertex_count(level) + first_edge + i.
@@ -68,7 +80,12 @@ struct Vec3 {
 
 class LevelFrames {
  public:
-  LevelFrames(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> coarse, int stride);
+  /// `storage` (optional): an array whose capacity the vertex normals reuse, so that a caller
+  /// running level after level (the decoder) faults in the normals' pages once, not per level.
+  LevelFrames(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> coarse, int stride,
+              std::vector<Vec3> storage = {});
+  /// The normals' storage, capacity kept, for the next level's LevelFrames.
+  std::vector<Vec3> release_storage() && { return std::move(normal_); }
   std::uint32_t edge_count() const;
   /// The frames of edges [begin, end), a block of up to FrameBlock::kCapacity at a time from `begin`.
   void for_each_block(std::uint32_t begin, std::uint32_t end, const std::function<void(const FrameBlock&)>& visit) const;
