@@ -75,9 +75,16 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
 }
 
 
-}  // namespace
+/// Output arrays handed over by decode_into's caller: their storage is used where large enough.
+struct Storage {
+  std::vector<double> positions;
+  std::vector<std::uint32_t> faces;
+  std::vector<VertexChannel> channels;
+};
 
-DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options) {
+/// decode(), its output arrays in `storage`'s (taken from it) when a caller hands some over: then
+/// they keep their capacity (no shrink_to_fit), which the next call reuses.
+DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOptions& options, Storage* storage) {
   const std::span<const std::uint8_t> prefix = bytes.first(std::min(bytes.size(), options.max_bytes));
   ParsedStream stream;
   if (DecodeResult r = parse(prefix, options.limits, stream); r.status != Status::ok) return r;
@@ -143,6 +150,7 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     // Insignificant coefficients are 0 (the zeros the vector starts with).
     // Huge pages where offered (large_array.h): the values are the largest array written here.
     std::vector<double> values;
+    if (storage != nullptr) values = std::move(storage->positions);
     assign_large(values, std::size_t{h.vertex_count(L)} * k_stride);
     decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
       const auto c = static_cast<std::size_t>(x.component);
@@ -185,6 +193,8 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     for (const ChannelQuantization& c : header.channels) {
       const std::size_t m = static_cast<std::size_t>(c.components);
       VertexChannel channel{c.components, {}};
+      if (storage != nullptr && result.channels.size() < storage->channels.size())
+        channel.values = std::move(storage->channels[result.channels.size()].values);
       assign_large(channel.values, std::size_t{n} * m);
       for (std::uint32_t v = 0; v < n; ++v)
         for (std::size_t k = 0; k < m; ++k) channel.values[m * v + k] = values[k_stride * v + offset + k] + c.center[k];
@@ -196,10 +206,17 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
     for (std::size_t v = 0; v < n; ++v)
       for (std::size_t k = 0; k < 3; ++k) values[3 * v + k] = values[k_stride * v + k] + header.center[k];
     values.resize(std::size_t{n} * 3);
-    values.shrink_to_fit();  // a no-op at full level without channels; else the result holds no spare room
+    // A no-op at full level without channels; else the result holds no spare room (unless the
+    // caller hands its arrays over again: then the room is theirs to keep).
+    if (storage == nullptr) values.shrink_to_fit();
     result.mesh.positions = std::move(values);
-    result.mesh.triangles =
-        result.level == L ? std::move(h).release_finest_triangles() : h.copy_triangles(result.level);
+    std::vector<std::uint32_t> faces;
+    if (storage != nullptr) faces = std::move(storage->faces);
+    if (result.level == L)
+      std::move(h).release_finest_triangles(faces);
+    else
+      h.copy_triangles(result.level, faces);
+    result.mesh.triangles = std::move(faces);
     result.bit_plane = last_plane;
     result.bytes_used = prefix.size();
     result.complete = all_planes && !stream.container.truncated();
@@ -209,6 +226,25 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
   } catch (const MeshError& e) {
     return failure(Status::corrupt, e.what());
   }
+}
+
+}  // namespace
+
+DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options) {
+  return decode_with(bytes, options, nullptr);
+}
+
+void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result) {
+  Storage storage{std::move(result.mesh.positions), std::move(result.mesh.triangles), std::move(result.channels)};
+  result = decode_with(bytes, options, &storage);
+  if (result.status == Status::ok) return;
+  // Nothing decoded: the caller's arrays back, empty, their storage kept for the next call.
+  result.mesh.positions = std::move(storage.positions);
+  result.mesh.triangles = std::move(storage.faces);
+  result.channels = std::move(storage.channels);
+  result.mesh.positions.clear();
+  result.mesh.triangles.clear();
+  result.channels.clear();
 }
 
 StreamInfo inspect(std::span<const std::uint8_t> bytes) {

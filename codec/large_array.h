@@ -51,4 +51,14 @@ void reserve_large(std::vector<T>& v, std::size_t n) {
   advise_huge_pages(v.data(), n * sizeof(T));
 }
 
+/// reserve_large(v, n), except that storage already holding n elements is kept (emptied): for an
+/// array a caller hands over again and again (decode_into), whose pages are then resident.
+template <class T>
+void reserve_large_reusing(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() >= n)
+    v.clear();
+  else
+    reserve_large(v, n);
+}
+
 }  // namespace meshlift

@@ -12,12 +12,11 @@ namespace {
 /// of `coarse` gives its four children by TriangleTopology::refined()'s rule (corners and face
 /// edges, their edges numbered as refined() numbers them), and each child its four faces by
 /// refined_triangles()'s rule, in the same order.
-std::vector<std::uint32_t> twice_refined_triangles(const TriangleTopology& coarse) {
+void twice_refined_triangles(const TriangleTopology& coarse, std::vector<std::uint32_t>& out) {
   const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
   const std::uint32_t middle_V = V + E;  // vertices of the middle level
   const std::size_t F = coarse.face_count();
-  std::vector<std::uint32_t> out;
-  reserve_large(out, 48 * F);
+  reserve_large_reusing(out, 48 * F);
   for (std::size_t f = 0; f < F; ++f) {
     const std::uint32_t* c = &coarse.triangles[3 * f];
     const std::uint32_t* fe = &coarse.face_edges[3 * f];
@@ -44,6 +43,11 @@ std::vector<std::uint32_t> twice_refined_triangles(const TriangleTopology& coars
       out.insert(out.end(), t, t + 12);
     }
   }
+}
+
+std::vector<std::uint32_t> twice_refined_triangles(const TriangleTopology& coarse) {
+  std::vector<std::uint32_t> out;
+  twice_refined_triangles(coarse, out);
   return out;
 }
 
@@ -122,19 +126,35 @@ const std::vector<std::uint32_t>& SemiRegularHierarchy::triangles(int level) con
 }
 
 std::vector<std::uint32_t> SemiRegularHierarchy::copy_triangles(int level) const {
+  std::vector<std::uint32_t> faces;
+  copy_triangles(level, faces);
+  return faces;
+}
+
+void SemiRegularHierarchy::copy_triangles(int level, std::vector<std::uint32_t>& out) const {
   const bool below_finest_held = has_topology(levels() - 1);
-  if (level == levels() - 1 && !below_finest_held) return topologies_.back().refined_triangles();
+  if (level == levels() - 1 && !below_finest_held) return topologies_.back().refined_triangles(out);
   if (level == levels() && !has_finest_triangles_)
-    return below_finest_held ? topologies_.back().refined_triangles() : twice_refined_triangles(topologies_.back());
-  return triangles(level);
+    return below_finest_held ? topologies_.back().refined_triangles(out) : twice_refined_triangles(topologies_.back(), out);
+  const std::vector<std::uint32_t>& faces = triangles(level);
+  reserve_large_reusing(out, faces.size());
+  out.insert(out.end(), faces.begin(), faces.end());
 }
 
 std::vector<std::uint32_t> SemiRegularHierarchy::release_finest_triangles() && {
   std::vector<std::uint32_t> faces;
-  if (levels() == 0) {
-    faces = std::move(topologies_.back().triangles);
-  } else if (has_finest_triangles_) {
-    faces = std::move(finest_triangles_);
+  std::move(*this).release_finest_triangles(faces);
+  return faces;
+}
+
+void SemiRegularHierarchy::release_finest_triangles(std::vector<std::uint32_t>& out) && {
+  if (levels() == 0 || has_finest_triangles_) {
+    // Held already: copied into storage of the caller's that holds them, else moved out.
+    std::vector<std::uint32_t>& held = levels() == 0 ? topologies_.back().triangles : finest_triangles_;
+    if (out.capacity() >= held.size())
+      out.assign(held.begin(), held.end());
+    else
+      out = std::move(held);
   } else if (!has_topology(levels() - 1)) {
     // twice_refined_triangles() reads only the corners, edges and face edges of level L - 2.
     TriangleTopology last;
@@ -144,7 +164,7 @@ std::vector<std::uint32_t> SemiRegularHierarchy::release_finest_triangles() && {
     last.face_edges = std::move(topologies_.back().face_edges);
     topologies_.clear();
     children_ = std::vector<std::uint32_t>();
-    faces = twice_refined_triangles(last);
+    twice_refined_triangles(last, out);
   } else {
     // refined_triangles() reads only the corners and face edges of level L - 1.
     TriangleTopology last;
@@ -153,13 +173,12 @@ std::vector<std::uint32_t> SemiRegularHierarchy::release_finest_triangles() && {
     last.face_edges = std::move(topologies_.back().face_edges);
     topologies_.clear();
     children_ = std::vector<std::uint32_t>();
-    faces = last.refined_triangles();
+    last.refined_triangles(out);
   }
   vertex_counts_.clear();
   topologies_.clear();
   finest_triangles_ = std::vector<std::uint32_t>();
   children_ = std::vector<std::uint32_t>();
-  return faces;
 }
 
 int SemiRegularHierarchy::level_of(std::uint32_t vertex) const {

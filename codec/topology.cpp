@@ -128,9 +128,14 @@ TriangleTopology TriangleTopology::build(std::uint32_t vertex_count, std::span<c
 }
 
 std::vector<std::uint32_t> TriangleTopology::refined_triangles() const {
-  const std::uint32_t V = vertex_count;
   std::vector<std::uint32_t> out;
-  reserve_large(out, 12 * face_count());
+  refined_triangles(out);
+  return out;
+}
+
+void TriangleTopology::refined_triangles(std::vector<std::uint32_t>& out) const {
+  const std::uint32_t V = vertex_count;
+  reserve_large_reusing(out, 12 * face_count());
   for (std::size_t f = 0; f < face_count(); ++f) {
     // Corner c_i keeps face (c_i, m_i, m_{i+2}); the centre face is (m_0, m_1, m_2), where m_i is
     // the odd vertex V + e on face edge i (c_i -> c_{i+1}).
@@ -139,7 +144,6 @@ std::vector<std::uint32_t> TriangleTopology::refined_triangles() const {
     const std::uint32_t t[12] = {c[0], m[0], m[2], c[1], m[1], m[0], c[2], m[2], m[1], m[0], m[1], m[2]};
     out.insert(out.end(), t, t + 12);
   }
-  return out;
 }
 
 TriangleTopology TriangleTopology::refined() const {

@@ -1,6 +1,7 @@
 // The codec's fast paths of issue 3's fourth round against the plain computations they replace,
 // bit for bit: the local frames' test for an edge along the normal without its square root
-// against FORMAT.md §3's formula; the decoder's normals reusing one array across levels.
+// against FORMAT.md §3's formula; the decoder's normals reusing one array across levels;
+// decode_into, reusing its caller's arrays, against decode().
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -18,6 +19,36 @@ namespace {
 
 /// FORMAT.md §3: the edge is (nearly) along the normal when !(|t1| > 1e-12 |edge|).
 bool spec_along_normal(double t1_length, double edge_squared) { return !(t1_length > 1e-12 * std::sqrt(edge_squared)); }
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+bool same_result(const DecodeResult& a, const DecodeResult& b) {
+  if (a.status != b.status || a.message != b.message || a.level != b.level || a.levels != b.levels ||
+      a.bit_plane != b.bit_plane || a.bytes_used != b.bytes_used || a.complete != b.complete ||
+      a.channels.size() != b.channels.size())
+    return false;
+  for (std::size_t c = 0; c < a.channels.size(); ++c)
+    if (a.channels[c].components != b.channels[c].components || !same_bits(a.channels[c].values, b.channels[c].values))
+      return false;
+  return same_bits(a.mesh.positions, b.mesh.positions) && same_bits(a.mesh.triangles, b.mesh.triangles);
+}
+
+/// A semi-regular mesh with detail at every level and two channels, in canonical order.
+SemiRegularMesh mesh_with_channels(int levels) {
+  SemiRegularMesh m = refine_linear(test::icosahedron(), levels);
+  const std::vector<double> noise = test::random_values(m.positions.size(), 4);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) m.positions[i] *= 1 + 0.05 * noise[i];
+  VertexChannel scalar{1, {}}, colour{3, {}};
+  for (std::size_t v = 0; v < m.positions.size() / 3; ++v) {
+    scalar.values.push_back(std::sin(3 * m.positions[3 * v]));
+    for (int k = 0; k < 3; ++k) colour.values.push_back(std::cos(2 * m.positions[3 * v + k]));
+  }
+  m.channels = {scalar, colour};
+  return canonical_order(m);
+}
 
 }  // namespace
 
@@ -73,4 +104,53 @@ TEST_CASE("frames with one normals array reused level after level give the bits 
     REQUIRE(std::memcmp(fresh.data(), reused.data(), fresh.size() * sizeof(double)) == 0);
     REQUIRE(fresh != values);  // the details did turn
   }
+}
+
+TEST_CASE("decode_into reusing one result gives decode()'s bits for any prefix, level and order of calls", "[codec]") {
+  const SemiRegularMesh with_channels = mesh_with_channels(4);
+  const SemiRegularMesh plain = [&] {
+    SemiRegularMesh m = with_channels;
+    m.channels.clear();
+    return m;
+  }();
+  for (const SemiRegularMesh* mesh : {&plain, &with_channels})
+    for (Scheme scheme : {Scheme::loop, Scheme::butterfly})
+      for (bool local_frames : {true, false}) {
+        EncodeOptions e;
+        e.scheme = scheme;
+        e.local_frames = local_frames;
+        const std::vector<std::uint8_t> file = encode(*mesh, e);
+        // Growing prefixes as a viewer sees them, then shrinking ones, level limits, and cuts that
+        // do not decode (inside the header, before the base is complete) in between.
+        std::vector<std::pair<std::size_t, int>> calls;
+        for (std::size_t bytes : {std::size_t{5}, file.size() / 8, file.size() / 4, file.size() / 2, file.size()})
+          calls.emplace_back(bytes, -1);
+        for (std::size_t bytes : {file.size(), file.size() / 3, std::size_t{20}, file.size() / 2, file.size()})
+          for (int level : {2, 0, -1}) calls.emplace_back(bytes, level);
+        DecodeResult reused;
+        const double* storage = nullptr;
+        for (const auto& [bytes, level] : calls) {
+          DecodeOptions o;
+          o.max_bytes = bytes;
+          o.max_level = level;
+          const DecodeResult expected = decode(file, o);
+          decode_into(file, o, reused);
+          INFO("scheme " << to_string(scheme) << ", frames " << local_frames << ", channels " << mesh->channels.size()
+                         << ", " << bytes << " of " << file.size() << " bytes, level " << level);
+          REQUIRE(same_result(reused, expected));
+          if (expected.status != Status::ok) REQUIRE(reused.mesh.positions.empty());
+          // After the first whole decode, every later one fits in its storage: no new arrays.
+          if (storage != nullptr) REQUIRE(reused.mesh.positions.data() == storage);
+          if (bytes == file.size() && level == -1 && expected.status == Status::ok) storage = reused.mesh.positions.data();
+        }
+        REQUIRE(storage != nullptr);
+        // The streaming decoder's form of it.
+        Decoder decoder;
+        DecodeResult streamed;
+        for (std::size_t at = 0; at < file.size(); at += file.size() / 3 + 1) {
+          decoder.push(std::span(file).subspan(at, std::min(file.size() - at, file.size() / 3 + 1)));
+          decoder.mesh(streamed);
+          REQUIRE(same_result(streamed, decoder.mesh()));
+        }
+      }
 }

@@ -88,6 +88,14 @@ struct DecodeResult {
 /// Decodes a whole or truncated stream. Never throws on bad bytes: a numbered status instead.
 DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options = {});
 
+/// decode(bytes, options) into `result`, whose arrays (the mesh's positions and faces, the
+/// channels' values) lend their storage where it is large enough: for a caller that decodes again
+/// and again (a viewer asking a Decoder for the mesh as bytes arrive) and keeps one result, so
+/// that no decode after the first faults in fresh pages for its output (an output of millions of
+/// vertices is over 100 MB). The same status and contents as decode(); the arrays may keep spare
+/// capacity. On an error status the mesh and channels are empty, their storage kept.
+void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result);
+
 /// Streaming decode: push bytes as they arrive, ask for the best mesh at any moment.
 class Decoder {
  public:
@@ -97,6 +105,9 @@ class Decoder {
   /// The mesh decoded from everything pushed so far (same as decode() of that prefix). For now
   /// it decodes the whole prefix again on every call: cost grows with the bytes received.
   DecodeResult mesh() const { return decode(received_, options_); }
+  /// The same into `result`, reusing its arrays' storage (decode_into): for a caller asking
+  /// again and again.
+  void mesh(DecodeResult& result) const { decode_into(received_, options_, result); }
 
  private:
   DecodeOptions options_;

@@ -63,6 +63,10 @@ class SemiRegularHierarchy {
   /// memory (the faces and 12 bytes per finest vertex of level levels() - 1 at the peak, instead
   /// of the whole hierarchy). The hierarchy is empty afterwards.
   std::vector<std::uint32_t> release_finest_triangles() &&;
+  /// copy_triangles() and release_finest_triangles() into `out`, whose storage is kept if it can
+  /// hold the faces: for a caller that hands the same array over again and again (decode_into).
+  void copy_triangles(int level, std::vector<std::uint32_t>& out) const;
+  void release_finest_triangles(std::vector<std::uint32_t>& out) &&;
   /// The level a vertex first appears on.
   int level_of(std::uint32_t vertex) const;
 

@@ -39,6 +39,8 @@ struct TriangleTopology {
   TriangleTopology refined() const;
   /// The faces of refined() alone (the same numbering), without its edges.
   std::vector<std::uint32_t> refined_triangles() const;
+  /// The same in `out`, whose storage is kept if it can hold them (for a caller that reuses it).
+  void refined_triangles(std::vector<std::uint32_t>& out) const;
 };
 
 /// Per-vertex facts derived from a topology: valence, boundary flag, incident edges (CSR).
