@@ -290,7 +290,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   assign_large(q.negative, values.size());
   bool too_fine = false;  // thrown after the loops below, which then have no exit
   // Quantizes the coefficients of vertex v of level j; if `reconstruction` is given, writes there
-  // what the decoder will reconstruct from them at full rate.
+  // what the decoder will reconstruct from them at full rate (component by component, each
+  // written after its coefficient is read: `reconstruction` may be `values` itself).
   auto quantize = [&](int j, std::size_t v, double* reconstruction) {
     const double weight = header.level_weights[static_cast<std::size_t>(j)];
     const double* steps = (j == 0 ? base_step : detail_step).data();
@@ -313,10 +314,11 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   if (!header.local_frames) {
     for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
   } else {
-    // The closed loop's reconstruction, left unset: every value is written before it is read.
-    const std::unique_ptr<double[]> reconstruction = std::make_unique_for_overwrite<double[]>(values.size());
-    advise_huge_pages(reconstruction.get(), values.size() * sizeof(double));
-    const std::span<double> decoded(reconstruction.get(), values.size());
+    // The closed loop's reconstruction in the coefficients' own array: once a vertex's
+    // coefficients are quantized nothing reads them again, so each is overwritten by what the
+    // decoder will reconstruct from them; vertices [0, V_j) then hold the decoder's level-j mesh,
+    // those above still the coefficients to quantize (no second array of V K values).
+    const std::span<double> decoded(values);
     // Closed loop: the frames of level j + 1 come from the level-j mesh as the decoder will have
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
     // sides rotate by the same frames bit for bit. Every value of `decoded` a synthesis reads has
