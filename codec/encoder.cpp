@@ -12,6 +12,7 @@
 #include "local_frames.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
+#include "quantize.h"
 #include "stream_header.h"
 #include "zerotree_coder.h"
 
@@ -289,27 +290,18 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   assign_large(q.magnitude, values.size());
   assign_large(q.negative, values.size());
   bool too_fine = false;  // thrown after the loops below, which then have no exit
-  // Quantizes the coefficients of vertex v of level j; if `reconstruction` is given, writes there
-  // what the decoder will reconstruct from them at full rate (component by component, each
-  // written after its coefficient is read: `reconstruction` may be `values` itself).
-  auto quantize = [&](int j, std::size_t v, double* reconstruction) {
-    const double weight = header.level_weights[static_cast<std::size_t>(j)];
-    const double* steps = (j == 0 ? base_step : detail_step).data();
-    for (std::size_t c = 0; c < k_stride; ++c) {
-      const std::size_t i = k_stride * v + c;
-      const double scaled = std::abs(values[i]) * weight / steps[c];
-      too_fine |= scaled >= 2147483648.0;
-      // The same floor as a plain conversion wherever that is defined (scaled < 2^31).
-      const auto magnitude = static_cast<std::uint32_t>(std::min(scaled, 2147483647.0));
-      const bool negative = values[i] < 0 && magnitude > 0;
-      q.magnitude[i] = magnitude;
-      q.negative[i] = negative;
-      if (reconstruction != nullptr)
-        reconstruction[i] = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative), steps[c], weight);
-    }
+  // Quantizes the coefficients of vertices [first, first + count) of level j (quantize.h); if
+  // `reconstruction` is given, writes there what the decoder will reconstruct from them at full
+  // rate (it may be `values` itself: each is written after its coefficient is read).
+  auto quantize_vertices = [&](int j, std::size_t first, std::size_t count, double* reconstruction) {
+    const std::size_t i = k_stride * first;
+    too_fine |= quantize(&values[i], k_stride * count, K, (j == 0 ? base_step : detail_step).data(),
+                         header.level_weights[static_cast<std::size_t>(j)], &q.magnitude[i], &q.negative[i],
+                         reconstruction != nullptr ? reconstruction + i : nullptr);
   };
   auto quantize_level = [&](int j, double* reconstruction) {
-    for (std::size_t v = j == 0 ? 0 : h.vertex_count(j - 1); v < h.vertex_count(j); ++v) quantize(j, v, reconstruction);
+    const std::size_t first = j == 0 ? 0 : h.vertex_count(j - 1);
+    quantize_vertices(j, first, h.vertex_count(j) - first, reconstruction);
   };
   if (!header.local_frames) {
     for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
@@ -325,16 +317,16 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     // been written by then (the base, then each level's odd vertices before its synthesis).
     quantize_level(0, decoded.data());
     for (int j = 0; j < L; ++j) {
-      // The level's frames computed once for both rotations: each odd vertex's detail into its
-      // frame, quantized, its reconstruction back (vertex by vertex, the same operations as
-      // three passes over the level: no vertex reads another's values here).
+      // The level's frames computed once for both rotations, a block at a time: the block's odd
+      // vertices' details into their frames, quantized, their reconstructions back (the same
+      // operations as three passes over the level: no vertex reads another's values here).
       frames::for_each_frame_block(h, j, decoded, K, [&](const frames::FrameBlock& block) {
-        for (std::uint32_t i = 0; i < block.count; ++i) {
-          const std::size_t v = h.odd_vertex(j, block.first_edge + i);
-          block.rotate(i, &values[k_stride * v], frames::Direction::to_local);
-          quantize(j + 1, v, decoded.data());
-          block.rotate(i, &decoded[k_stride * v], frames::Direction::to_global);
-        }
+        const std::size_t first = h.odd_vertex(j, block.first_edge);
+        for (std::uint32_t i = 0; i < block.count; ++i)
+          block.rotate(i, &values[k_stride * (first + i)], frames::Direction::to_local);
+        quantize_vertices(j + 1, first, block.count, decoded.data());
+        for (std::uint32_t i = 0; i < block.count; ++i)
+          block.rotate(i, &decoded[k_stride * (first + i)], frames::Direction::to_global);
       });
       transform.synthesize(decoded, K, j + 1, j);
     }

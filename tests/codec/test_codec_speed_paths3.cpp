@@ -1,7 +1,8 @@
 // The codec's fast paths of issue 3's fourth round against the plain computations they replace,
 // bit for bit: the local frames' test for an edge along the normal without its square root
 // against FORMAT.md §3's formula; the decoder's normals reusing one array across levels;
-// decode_into, reusing its caller's arrays, against decode().
+// decode_into, reusing its caller's arrays, against decode(); the encoder's quantizer four
+// coefficients at a time against FORMAT.md §5's formulas one by one.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -10,6 +11,8 @@
 #include <vector>
 
 #include "../../codec/local_frames.h"
+#include "../../codec/quantize.h"
+#include "../../codec/zerotree_coder.h"
 #include "meshlift/codec.h"
 #include "test_meshes.h"
 
@@ -152,5 +155,62 @@ TEST_CASE("decode_into reusing one result gives decode()'s bits for any prefix, 
           decoder.mesh(streamed);
           REQUIRE(same_result(streamed, decoder.mesh()));
         }
+      }
+}
+
+TEST_CASE("the quantizer four coefficients at a time gives the bits of FORMAT.md's formulas one by one", "[codec]") {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> exponent(-40, 40), unit(-1, 1);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (int components : {1, 3, 4, 7})
+    for (std::size_t vertices : {std::size_t{1}, std::size_t{5}, std::size_t{64}, std::size_t{333}})
+      for (int variant = 0; variant < 3; ++variant) {
+        const std::size_t n = vertices * static_cast<std::size_t>(components);
+        std::vector<double> steps;
+        for (int c = 0; c < components; ++c) steps.push_back(std::ldexp(1.0 + 0.37 * c, -10 + c));
+        const double weight = variant == 2 ? 3.0e9 : 1.7;
+        std::vector<double> x(n);
+        for (std::size_t i = 0; i < n; ++i) {
+          x[i] = unit(rng) * std::pow(2.0, exponent(rng));
+          // Zeros of both signs, values on the dead zone's edge and at 2^31 - 1 and 2^31 steps,
+          // infinities and NaN (which the encoder never hands over, but then no bits differ).
+          switch (rng() % 12) {
+            case 0: x[i] = 0.0; break;
+            case 1: x[i] = -0.0; break;
+            case 2: x[i] = (rng() % 2 ? -1 : 1) * steps[i % static_cast<std::size_t>(components)] / weight; break;
+            case 3: x[i] = -2147483647.0 * steps[i % static_cast<std::size_t>(components)] / weight; break;
+            case 4: x[i] = 2147483648.0 * steps[i % static_cast<std::size_t>(components)] / weight; break;
+            case 5: x[i] = variant == 1 ? (rng() % 2 ? inf : nan) : x[i]; break;
+            default: break;
+          }
+        }
+        std::vector<std::uint32_t> magnitude(n, 7), expected_magnitude(n);
+        std::vector<std::uint8_t> negative(n, 7), expected_negative(n);
+        std::vector<double> reconstruction(n, 7.0), expected_reconstruction(n);
+        bool expected_too_fine = false;
+        for (std::size_t i = 0; i < n; ++i) {
+          const double step = steps[i % static_cast<std::size_t>(components)];
+          const double scaled = std::abs(x[i]) * weight / step;
+          expected_too_fine |= scaled >= 2147483648.0;
+          expected_magnitude[i] = scaled < 2147483647.0 ? static_cast<std::uint32_t>(scaled) : scaled >= 2147483647.0 ? 2147483647u : 0u;
+          expected_negative[i] = x[i] < 0 && expected_magnitude[i] > 0;
+          expected_reconstruction[i] = zerotree::dequantize(
+              zerotree::Decoded::midpoint(expected_magnitude[i], 0, expected_negative[i] != 0), step, weight);
+        }
+        INFO(components << " components, " << vertices << " vertices, variant " << variant);
+        const bool too_fine = quantize(x.data(), n, components, steps.data(), weight, magnitude.data(), negative.data(),
+                                       reconstruction.data());
+        REQUIRE(too_fine == expected_too_fine);
+        REQUIRE(magnitude == expected_magnitude);
+        REQUIRE(negative == expected_negative);
+        REQUIRE(same_bits(reconstruction, expected_reconstruction));
+        // In place, as the encoder's closed loop calls it, and without a reconstruction.
+        std::vector<double> in_place = x;
+        quantize(in_place.data(), n, components, steps.data(), weight, magnitude.data(), negative.data(), in_place.data());
+        REQUIRE(same_bits(in_place, expected_reconstruction));
+        std::fill(magnitude.begin(), magnitude.end(), 7u);
+        REQUIRE(quantize(x.data(), n, components, steps.data(), weight, magnitude.data(), negative.data(), nullptr) ==
+                expected_too_fine);
+        REQUIRE(magnitude == expected_magnitude);
       }
 }
