@@ -249,12 +249,12 @@ int main(int argc, char** argv) {
       print_timing(what.c_str(), t, V, "(coefficient bytes only)");
     }
     zerotree::Quantized q;
-    q.magnitude.assign(static_cast<std::size_t>(V) * zerotree::kGeometryComponents, 0);
-    q.negative.assign(q.magnitude.size(), 0);
+    q.allocate(static_cast<std::size_t>(V) * zerotree::kGeometryComponents);
+    std::fill(q.coefficients.get(), q.coefficients.get() + q.size, zerotree::Quantized::Coefficient{});
     decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
       const std::size_t i = std::size_t{x.vertex} * zerotree::kGeometryComponents + static_cast<std::size_t>(x.component);
-      q.magnitude[i] = x.known;
-      q.negative[i] = x.negative;
+      q.coefficients[i].magnitude = x.known;
+      q.coefficients[i].negative = x.negative;
     });
     decoded = {};
     std::vector<std::uint8_t> bytes;

@@ -287,8 +287,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   }
   zerotree::Quantized q;
   q.components = K;
-  assign_large(q.magnitude, values.size());
-  assign_large(q.negative, values.size());
+  q.allocate(values.size());  // every record written below
   bool too_fine = false;  // thrown after the loops below, which then have no exit
   // Quantizes the coefficients of vertices [first, first + count) of level j (quantize.h); if
   // `reconstruction` is given, writes there what the decoder will reconstruct from them at full
@@ -296,7 +295,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   auto quantize_vertices = [&](int j, std::size_t first, std::size_t count, double* reconstruction) {
     const std::size_t i = k_stride * first;
     too_fine |= quantize(&values[i], k_stride * count, K, (j == 0 ? base_step : detail_step).data(),
-                         header.level_weights[static_cast<std::size_t>(j)], &q.magnitude[i], &q.negative[i],
+                         header.level_weights[static_cast<std::size_t>(j)], q.coefficients.get() + i,
                          reconstruction != nullptr ? reconstruction + i : nullptr);
   };
   auto quantize_level = [&](int j, double* reconstruction) {

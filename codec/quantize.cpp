@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include "zerotree_coder.h"
-
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define MESHLIFT_QUANTIZE_AVX 1
@@ -13,14 +11,17 @@ namespace meshlift {
 namespace {
 
 /// Coefficient i alone: the formulas of quantize() as written there.
-bool quantize_one(double x, double step, double weight, std::uint32_t& magnitude, std::uint8_t& negative,
-                  double* reconstruction) {
+using Coefficient = zerotree::Quantized::Coefficient;
+
+bool quantize_one(double x, double step, double weight, Coefficient& out, double* reconstruction) {
   const double scaled = std::abs(x) * weight / step;
   // floor(min(scaled, 2^31 - 1)) by a conversion, which is defined there; a NaN gives 0.
-  magnitude = scaled < 2147483647.0 ? static_cast<std::uint32_t>(scaled) : scaled >= 2147483647.0 ? 2147483647u : 0u;
-  negative = x < 0 && magnitude > 0;
+  const std::uint32_t magnitude =
+      scaled < 2147483647.0 ? static_cast<std::uint32_t>(scaled) : scaled >= 2147483647.0 ? 2147483647u : 0u;
+  const bool negative = x < 0 && magnitude > 0;
+  out = Coefficient{magnitude, negative, 0, 0};
   if (reconstruction != nullptr)
-    *reconstruction = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative != 0), step, weight);
+    *reconstruction = zerotree::dequantize(zerotree::Decoded::midpoint(magnitude, 0, negative), step, weight);
   return scaled >= 2147483648.0;
 }
 
@@ -31,8 +32,8 @@ bool quantize_one(double x, double step, double weight, std::uint32_t& magnitude
 // floor as a truncating conversion of a value in [0, 2^31 - 1], the midpoint's sign as its sign
 // bit, its 0 for a zero magnitude by a mask. Returns the coefficients done (a multiple of 4).
 __attribute__((target("avx"))) std::size_t quantize_avx(const double* x, std::size_t n, int components, const double* steps,
-                                                        double weight, std::uint32_t* magnitude, std::uint8_t* negative,
-                                                        double* reconstruction, bool& too_fine) {
+                                                        double weight, Coefficient* out, double* reconstruction,
+                                                        bool& too_fine) {
   const std::size_t period = 4 * static_cast<std::size_t>(components);
   alignas(32) double pattern[4 * 16];
   for (std::size_t t = 0; t < period; ++t) pattern[t] = steps[t % static_cast<std::size_t>(components)];
@@ -47,12 +48,14 @@ __attribute__((target("avx"))) std::size_t quantize_avx(const double* x, std::si
     const __m256d clamped = _mm256_or_pd(_mm256_and_pd(_mm256_cmp_pd(scaled, cap, _CMP_LT_OQ), scaled),
                                          _mm256_and_pd(_mm256_cmp_pd(scaled, cap, _CMP_GE_OQ), cap));
     const __m128i m = _mm256_cvttpd_epi32(clamped);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(magnitude + i), m);
     const __m256d known = _mm256_cvtepi32_pd(m);
     const __m256d nonzero = _mm256_cmp_pd(known, zero, _CMP_NEQ_OQ);
     const __m256d is_negative = _mm256_and_pd(_mm256_cmp_pd(v, zero, _CMP_LT_OQ), nonzero);
     const int bits = _mm256_movemask_pd(is_negative);
-    for (int k = 0; k < 4; ++k) negative[i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>((bits >> k) & 1);
+    alignas(16) std::uint32_t lanes[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(lanes), m);
+    for (int k = 0; k < 4; ++k)
+      out[i + static_cast<std::size_t>(k)] = Coefficient{lanes[k], ((bits >> k) & 1) != 0, 0, 0};
     if (reconstruction != nullptr) {
       // midpoint: known + 0.5, negated if negative, 0 if known is; dequantize: mid * step / w.
       const __m256d mid = _mm256_and_pd(_mm256_xor_pd(_mm256_add_pd(known, half), _mm256_and_pd(is_negative, sign)), nonzero);
@@ -66,18 +69,17 @@ __attribute__((target("avx"))) std::size_t quantize_avx(const double* x, std::si
 
 }  // namespace
 
-bool quantize(const double* x, std::size_t n, int components, const double* steps, double weight,
-              std::uint32_t* magnitude, std::uint8_t* negative, double* reconstruction) {
+bool quantize(const double* x, std::size_t n, int components, const double* steps, double weight, Coefficient* out,
+              double* reconstruction) {
   bool too_fine = false;
   std::size_t i = 0;
 #if defined(MESHLIFT_QUANTIZE_AVX)
   static const bool avx = __builtin_cpu_supports("avx");
-  if (avx) i = quantize_avx(x, n, components, steps, weight, magnitude, negative, reconstruction, too_fine);
+  if (avx) i = quantize_avx(x, n, components, steps, weight, out, reconstruction, too_fine);
 #endif
   const auto k = static_cast<std::size_t>(components);
   for (; i < n; ++i)
-    too_fine |= quantize_one(x[i], steps[i % k], weight, magnitude[i], negative[i],
-                             reconstruction != nullptr ? reconstruction + i : nullptr);
+    too_fine |= quantize_one(x[i], steps[i % k], weight, out[i], reconstruction != nullptr ? reconstruction + i : nullptr);
   return too_fine;
 }
 

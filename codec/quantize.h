@@ -6,10 +6,13 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "zerotree_coder.h"
+
 namespace meshlift {
 
 /// Quantizes the n coefficients x[0, n) of whole vertices (coefficient i is of component
-/// i % components, whose step is steps[i % components]) of one level, whose weight is w_j:
+/// i % components, whose step is steps[i % components]) of one level, whose weight is w_j, into
+/// out[0, n) (their widths 0):
 ///   magnitude = floor(min(|x| w_j / step_c, 2^31 - 1)), negative = x < 0 and magnitude > 0;
 /// and, if `reconstruction` is not null, writes there what the decoder reconstructs from them at
 /// full rate, zerotree::dequantize(Decoded::midpoint(magnitude, 0, negative), step_c, w_j)
@@ -19,6 +22,6 @@ namespace meshlift {
 /// same order as the scalar formulas (no FMA), so the same bits; a NaN quantizes to 0 either way.
 /// \pre 1 <= components <= 16.
 bool quantize(const double* x, std::size_t n, int components, const double* steps, double weight,
-              std::uint32_t* magnitude, std::uint8_t* negative, double* reconstruction);
+              zerotree::Quantized::Coefficient* out, double* reconstruction);
 
 }  // namespace meshlift

@@ -55,9 +55,15 @@ SignificantList::SignificantList(std::size_t capacity)
       tag(std::make_unique_for_overwrite<std::uint8_t[]>(capacity)),
       magnitude(std::make_unique_for_overwrite<std::uint32_t[]>(capacity)) {}
 
+void Quantized::allocate(std::size_t count) {
+  coefficients = std::make_unique_for_overwrite<Coefficient[]>(count);
+  size = count;
+  advise_huge_pages(coefficients.get(), count * sizeof(Coefficient));
+}
+
 int top_plane(const Quantized& q) {
   std::uint32_t m = 0;
-  for (std::uint32_t x : q.magnitude) m = std::max(m, x);
+  for (std::size_t i = 0; i < q.size; ++i) m = std::max(m, q.coefficients[i].magnitude);
   int n = -1;
   while (n < 31 && (std::uint64_t{1} << (n + 1)) <= m) ++n;
   return n;
@@ -338,8 +344,9 @@ class EncoderIo {
  public:
   static constexpr bool kEncoder = true;
 
-  EncoderIo(const Forest& f, const Quantized& q, RangeEncoder& encoder)
-      : coefficients_(q.magnitude.size()), encoder_(&encoder), k_(static_cast<std::size_t>(q.components)) {
+  /// Reads and completes q's records (their widths), which the passes then read in place.
+  EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder)
+      : coefficients_(q.coefficients.get()), encoder_(&encoder), k_(static_cast<std::size_t>(q.components)) {
     // Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
     // Children always have larger indices than their parent.
     for (std::uint32_t v = f.vertex_count(); v-- > 0;) {
@@ -348,10 +355,7 @@ class EncoderIo {
         for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance)))
           prefetch(child, 0);
       Coefficient* x = &coefficients_[index(v, 0)];
-      for (std::size_t c = 0; c < k_; ++c) {
-        x[c].magnitude = q.magnitude[index(v, c)];
-        x[c].negative = q.negative[index(v, c)] != 0;
-      }
+      for (std::size_t c = 0; c < k_; ++c) x[c].descendants_width = x[c].grandchildren_width = 0;
       for (const std::uint32_t child : f.children(v)) {
         const Coefficient* y = &coefficients_[index(child, 0)];
         for (std::size_t c = 0; c < k_; ++c) {
@@ -377,15 +381,10 @@ class EncoderIo {
   std::uint8_t grandchildren_width(std::uint32_t v, int c) const { return coefficients_[index(v, c)].grandchildren_width; }
 
  private:
-  /// What the passes ask of a coefficient, together: 8 bytes, a vertex's K side by side.
-  struct Coefficient {
-    std::uint32_t magnitude = 0;
-    bool negative = false;
-    std::uint8_t descendants_width = 0, grandchildren_width = 0;
-  };
+  using Coefficient = Quantized::Coefficient;
   std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * k_ + static_cast<std::size_t>(c); }
   std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
-  std::vector<Coefficient> coefficients_;
+  Coefficient* coefficients_;
   RangeEncoder* encoder_;
   std::size_t k_;
 };
@@ -414,8 +413,10 @@ class DecoderIo {
 
 }  // namespace
 
-void encode(const Forest& forest, const Quantized& q, int top, RangeEncoder& encoder) {
+void encode(const Forest& forest, Quantized& q, int top, RangeEncoder& encoder) {
   if (q.components < 1 || q.components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
+  if (q.size != std::size_t{forest.vertex_count()} * static_cast<std::size_t>(q.components))
+    throw std::invalid_argument("zerotree: the coefficients are not the forest's vertices times the components");
   if (top < 0) return;
   EncoderIo io(forest, q, encoder);
   std::vector<ComponentLists> lists;

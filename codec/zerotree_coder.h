@@ -54,17 +54,30 @@ struct Forest {
 };
 
 /// Integer magnitudes floor(|c| / step) and signs of the normalized coefficients, `components`
-/// per vertex (vertex-major).
+/// per vertex (vertex-major), each in the record the encoder's passes read: its magnitude and
+/// sign and, filled in by encode(), the bit widths of the largest magnitudes below it, all in 8
+/// bytes (one memory access per coefficient in the passes).
 struct Quantized {
+  struct Coefficient {
+    std::uint32_t magnitude = 0;
+    bool negative = false;
+    std::uint8_t descendants_width = 0;    ///< over D(v), the vertex's descendants
+    std::uint8_t grandchildren_width = 0;  ///< over L(v) = D(v) minus the children
+  };
   int components = kGeometryComponents;
-  std::vector<std::uint32_t> magnitude;
-  std::vector<std::uint8_t> negative;
+  std::size_t size = 0;  ///< vertices * components
+  /// Left uninitialized by allocate(): the quantizer writes every record.
+  std::unique_ptr<Coefficient[]> coefficients;
+
+  /// Room for `count` records, their storage advised for huge pages, not written.
+  void allocate(std::size_t count);
 };
 
 /// Highest plane n with some magnitude >= 2^n (-1 if all are zero).
 int top_plane(const Quantized& q);
 
-void encode(const Forest& forest, const Quantized& q, int top_plane, RangeEncoder& encoder);
+/// Codes q's magnitudes and signs; fills in its records' widths first.
+void encode(const Forest& forest, Quantized& q, int top_plane, RangeEncoder& encoder);
 
 /// SPIHT's list of significant coefficients (LSP) of one component, in the order they became
 /// significant, as parallel arrays of capacity `capacity` (pages become resident as they fill):

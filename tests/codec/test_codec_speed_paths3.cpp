@@ -184,8 +184,10 @@ TEST_CASE("the quantizer four coefficients at a time gives the bits of FORMAT.md
             default: break;
           }
         }
-        std::vector<std::uint32_t> magnitude(n, 7), expected_magnitude(n);
-        std::vector<std::uint8_t> negative(n, 7), expected_negative(n);
+        using Coefficient = zerotree::Quantized::Coefficient;
+        std::vector<Coefficient> out(n, Coefficient{7, true, 7, 7});
+        std::vector<std::uint32_t> expected_magnitude(n);
+        std::vector<std::uint8_t> expected_negative(n);
         std::vector<double> reconstruction(n, 7.0), expected_reconstruction(n);
         bool expected_too_fine = false;
         for (std::size_t i = 0; i < n; ++i) {
@@ -197,20 +199,24 @@ TEST_CASE("the quantizer four coefficients at a time gives the bits of FORMAT.md
           expected_reconstruction[i] = zerotree::dequantize(
               zerotree::Decoded::midpoint(expected_magnitude[i], 0, expected_negative[i] != 0), step, weight);
         }
+        auto same_records = [&] {
+          for (std::size_t i = 0; i < n; ++i)
+            if (out[i].magnitude != expected_magnitude[i] || out[i].negative != (expected_negative[i] != 0) ||
+                out[i].descendants_width != 0 || out[i].grandchildren_width != 0)
+              return false;
+          return true;
+        };
         INFO(components << " components, " << vertices << " vertices, variant " << variant);
-        const bool too_fine = quantize(x.data(), n, components, steps.data(), weight, magnitude.data(), negative.data(),
-                                       reconstruction.data());
+        const bool too_fine = quantize(x.data(), n, components, steps.data(), weight, out.data(), reconstruction.data());
         REQUIRE(too_fine == expected_too_fine);
-        REQUIRE(magnitude == expected_magnitude);
-        REQUIRE(negative == expected_negative);
+        REQUIRE(same_records());
         REQUIRE(same_bits(reconstruction, expected_reconstruction));
         // In place, as the encoder's closed loop calls it, and without a reconstruction.
         std::vector<double> in_place = x;
-        quantize(in_place.data(), n, components, steps.data(), weight, magnitude.data(), negative.data(), in_place.data());
+        quantize(in_place.data(), n, components, steps.data(), weight, out.data(), in_place.data());
         REQUIRE(same_bits(in_place, expected_reconstruction));
-        std::fill(magnitude.begin(), magnitude.end(), 7u);
-        REQUIRE(quantize(x.data(), n, components, steps.data(), weight, magnitude.data(), negative.data(), nullptr) ==
-                expected_too_fine);
-        REQUIRE(magnitude == expected_magnitude);
+        std::fill(out.begin(), out.end(), Coefficient{7, true, 7, 7});
+        REQUIRE(quantize(x.data(), n, components, steps.data(), weight, out.data(), nullptr) == expected_too_fine);
+        REQUIRE(same_records());
       }
 }
