@@ -348,8 +348,9 @@ class EncoderIo {
   EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder)
       : coefficients_(q.coefficients.get()), encoder_(&encoder), k_(static_cast<std::size_t>(q.components)) {
     // Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
-    // Children always have larger indices than their parent.
-    for (std::uint32_t v = f.vertex_count(); v-- > 0;) {
+    // Children always have larger indices than their parent. The finest level's vertices have
+    // none: their widths stay the 0 the records hold (Quantized).
+    for (std::uint32_t v = f.level_starts[static_cast<std::size_t>(f.levels)]; v-- > 0;) {
       // The inner-edge children are far from the halves: ask for them a few vertices ahead.
       if (v >= kPrefetchDistance)
         for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance)))

@@ -55,8 +55,9 @@ struct Forest {
 
 /// Integer magnitudes floor(|c| / step) and signs of the normalized coefficients, `components`
 /// per vertex (vertex-major), each in the record the encoder's passes read: its magnitude and
-/// sign and, filled in by encode(), the bit widths of the largest magnitudes below it, all in 8
-/// bytes (one memory access per coefficient in the passes).
+/// sign and the bit widths of the largest magnitudes below it, all in 8 bytes (one memory access
+/// per coefficient in the passes). The widths are to be 0 (as the quantizer writes them):
+/// encode() fills in those of the vertices with children.
 struct Quantized {
   struct Coefficient {
     std::uint32_t magnitude = 0;
@@ -76,7 +77,7 @@ struct Quantized {
 /// Highest plane n with some magnitude >= 2^n (-1 if all are zero).
 int top_plane(const Quantized& q);
 
-/// Codes q's magnitudes and signs; fills in its records' widths first.
+/// Codes q's magnitudes and signs; fills in the widths of its vertices with children first.
 void encode(const Forest& forest, Quantized& q, int top_plane, RangeEncoder& encoder);
 
 /// SPIHT's list of significant coefficients (LSP) of one component, in the order they became
