@@ -6,6 +6,7 @@
 #include <bit>
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
 
 namespace meshlift::zerotree {
 
@@ -54,6 +55,9 @@ SignificantList::SignificantList(std::size_t capacity)
     : vertex(std::make_unique_for_overwrite<std::uint32_t[]>(capacity)),
       tag(std::make_unique_for_overwrite<std::uint8_t[]>(capacity)),
       magnitude(std::make_unique_for_overwrite<std::uint32_t[]>(capacity)) {}
+
+// make_unique_for_overwrite writes nothing only for a trivially constructible record.
+static_assert(std::is_trivially_default_constructible_v<Quantized::Coefficient> && sizeof(Quantized::Coefficient) == 8);
 
 void Quantized::allocate(std::size_t count) {
   coefficients = std::make_unique_for_overwrite<Coefficient[]>(count);

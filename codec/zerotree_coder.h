@@ -59,11 +59,13 @@ struct Forest {
 /// per coefficient in the passes). The widths are to be 0 (as the quantizer writes them):
 /// encode() fills in those of the vertices with children.
 struct Quantized {
+  /// Trivial (no member initializers), so that allocate() leaves the records unwritten;
+  /// Coefficient{} is all zeros.
   struct Coefficient {
-    std::uint32_t magnitude = 0;
-    bool negative = false;
-    std::uint8_t descendants_width = 0;    ///< over D(v), the vertex's descendants
-    std::uint8_t grandchildren_width = 0;  ///< over L(v) = D(v) minus the children
+    std::uint32_t magnitude;
+    bool negative;
+    std::uint8_t descendants_width;    ///< over D(v), the vertex's descendants
+    std::uint8_t grandchildren_width;  ///< over L(v) = D(v) minus the children
   };
   int components = kGeometryComponents;
   std::size_t size = 0;  ///< vertices * components
