@@ -69,9 +69,11 @@ double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed) {
 
 /// Places the refined base on the surface from `guide` and untangles its folded patches.
 SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const std::vector<double>& guide,
-                                 const SurfaceQuery& surface, const std::function<void(double)>& report) {
+                                 bool normal_lines, const SurfaceQuery& surface,
+                                 const std::function<void(double)>& report) {
   SemiRegularMesh mesh{hierarchy, {}, {}};
   SurfaceFitOptions fit_options;
+  if (!normal_lines) fit_options.normal_line_levels = 0;
   fit_options.progress = report;
   fit_to_surface(mesh, guide, surface, fit_options);
   // Patches only: the least-squares rounds move every vertex again, and per-vertex moves made
@@ -139,53 +141,99 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   clock.lap("guides");
   report(0.2);
 
-  // Each guide's refinement is placed and its patches untangled; the one with fewer folded
-  // faces, or as many and closer to the input, goes on. Measured on the corpus (L = 3, ~4x): the
-  // choice made here is the one made after the least-squares fit and the last untangling, but for
-  // homer (79.72 against 79.76 dB), at a fifth of the cost of finishing both. The second guide's
-  // placement runs on a thread of its own: the patch untangling and the comparison are partly
-  // serial, so the two overlap on two cores (the result is the same as one after the other).
+  // Each guide's refinement is placed with the normal-line placement of level 1 (surface_fit.h)
+  // and its patches untangled; if each folds some face, also without it. The placement that
+  // folds fewest faces goes on; among those, one with normal lines (it codes in fewer bits: 4
+  // to 11 points of BD-rate against Draco on the corpus, docs/RESULTS.md), then the one closest
+  // to the input. Measured on the corpus (L = 3, ~4x, guides alone): the choice made here is the
+  // one made after the least-squares fit and the last untangling, but for homer (79.72 against
+  // 79.76 dB), at a fifth of the cost of finishing both. The guides' placements run on threads
+  // of their own: the patch untangling is partly serial, so they overlap on two cores (the result
+  // is the same as one after the other).
   struct Placed {
     std::optional<SemiRegularMesh> mesh;
-    std::size_t folds = 0;
-    double psnr = 0;
-  };
-  auto place_and_judge = [&](std::size_t g, const std::function<void(double)>& progress) {
-    Placed placed{place_refinement(h, guides[g], surface, progress)};
-    if (guides.size() > 1) {
-      const FoldOvers folds = find_fold_overs(placed.mesh->finest(), surface);
-      placed.folds = folds.flipped.size() + folds.degenerate.size();
-      placed.psnr = remesh_psnr(mesh, *placed.mesh);
+    bool normal_lines = false;
+    std::size_t flipped = 0, degenerate = 0;
+    std::size_t folds() const { return flipped + degenerate; }
+    void count_folds(const SurfaceQuery& surface) {
+      const FoldOvers found = find_fold_overs(mesh->finest(), surface);
+      flipped = found.flipped.size(), degenerate = found.degenerate.size();
     }
-    return placed;
   };
-  std::future<Placed> second;
-  if (guides.size() > 1) second = std::async(std::launch::async, place_and_judge, 1, [](double) {});
-  Placed placed = place_and_judge(0, [&](double f) { report(0.2 + 0.55 * f); });
-  if (second.valid()) {
-    Placed other = second.get();
-    if (other.folds < placed.folds || (other.folds == placed.folds && other.psnr > placed.psnr)) placed = std::move(other);
-  }
-  clock.lap(guides.size() > 1 ? "place and compare guides" : "place");
-  report(0.75);
+  std::vector<Placed> candidates;
+  auto place_each_guide = [&](bool normal_lines) {
+    auto place = [&](std::size_t g, const std::function<void(double)>& progress) {
+      Placed placed{place_refinement(h, guides[g], normal_lines, surface, progress), normal_lines};
+      placed.count_folds(surface);
+      return placed;
+    };
+    std::vector<std::future<Placed>> others;
+    for (std::size_t g = 1; g < guides.size(); ++g) others.push_back(std::async(std::launch::async, place, g, [](double) {}));
+    candidates.push_back(place(0, [&](double f) { report(0.2 + (normal_lines ? 0.4 : 0.15) * f); }));
+    for (auto& future : others) candidates.push_back(future.get());
+  };
+  // The best of some candidates: fewest folds, then normal lines, then closest to the input.
+  auto best_of = [&](std::vector<Placed>& from) {
+    auto key = [](const Placed& c) { return std::pair(c.folds(), !c.normal_lines); };
+    const auto best_key =
+        key(*std::min_element(from.begin(), from.end(), [&](const Placed& a, const Placed& b) { return key(a) < key(b); }));
+    std::optional<Placed> chosen;
+    double chosen_psnr = 0;
+    for (Placed& candidate : from) {
+      if (key(candidate) != best_key) continue;
+      if (!chosen) {
+        chosen = std::move(candidate);
+        continue;
+      }
+      // A tie: the closer to the input.
+      if (chosen_psnr == 0) chosen_psnr = remesh_psnr(mesh, *chosen->mesh);
+      if (const double psnr = remesh_psnr(mesh, *candidate.mesh); psnr > chosen_psnr)
+        chosen = std::move(candidate), chosen_psnr = psnr;
+    }
+    return std::move(*chosen);
+  };
+  // Least-squares fit, then untangle once more (the solve keeps faces that face the input from
+  // turning away, but a face can still end up nearest to another part of the input); recounts
+  // the folds.
+  auto finish = [&](Placed& placed) {
+    LeastSquaresFitOptions least_squares;
+    least_squares.iterations = least_squares_rounds;
+    fit_least_squares(*placed.mesh, surface, least_squares);
+    untangle(*placed.mesh, surface);
+    placed.count_folds(surface);
+  };
 
-  LeastSquaresFitOptions least_squares;
-  least_squares.iterations = least_squares_rounds;
-  fit_least_squares(*placed.mesh, surface, least_squares);
-  clock.lap("least squares");
-  report(0.85);
-  // The least-squares solve keeps faces that face the input from turning away, but a face can
-  // still end up nearest to another part of the input: untangle once more.
-  untangle(*placed.mesh, surface);
-  clock.lap("untangle");
+  place_each_guide(true);
+  Placed placed = best_of(candidates);
+  if (placed.folds() > 0) {
+    // The normal-line placements fold: those without may fold fewer faces. When they do, the
+    // two best are finished (the last stages remove many folds) and compared as they end.
+    candidates.clear();
+    place_each_guide(false);
+    Placed plain = best_of(candidates);
+    clock.lap("place and compare");
+    report(0.75);
+    if (plain.folds() >= placed.folds()) {
+      finish(placed);
+    } else {
+      std::future<void> other = std::async(std::launch::async, [&] { finish(plain); });
+      finish(placed);
+      other.get();
+      if (plain.folds() < placed.folds()) placed = std::move(plain);
+    }
+    clock.lap("least squares and untangle");
+  } else {
+    clock.lap("place and compare");
+    report(0.75);
+    finish(placed);
+    clock.lap("least squares and untangle");
+  }
   report(0.9);
 
   RemeshResult result{std::move(*placed.mesh)};
   result.base_vertices = base.vertex_count();
-  const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
-  result.flipped_triangles = folds.flipped.size();
-  result.degenerate_triangles = folds.degenerate.size();
-  clock.lap("check folds");
+  result.flipped_triangles = placed.flipped;
+  result.degenerate_triangles = placed.degenerate;
   report(1);
   return result;
 }

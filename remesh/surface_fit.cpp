@@ -5,7 +5,10 @@
 // shooting (shoot(): along ±the vertex normal of the current level-j mesh, the nearest hit on a
 // face that faces the same way, within two mean edge lengths; the closest point when there is
 // none). Optional rounds then move each new vertex by a fraction of the tangential part of its
-// umbrella vector and place it again (off by default: measured, they fold more faces). Last,
+// umbrella vector and place it again (off by default: measured, they fold more faces). On the
+// coarsest levels, the normal-line placement then moves each new vertex, where that is safe, to
+// the surface point on the line through its butterfly prediction along the codec's frame normal
+// (a normal mesh: its detail has no tangential part, so the codec spends no bits on one). Last,
 // untangling: the corners of faces that face away from the input, and their neighbours, take
 // full umbrella steps and are placed again, until no face of the level folds or the count stops
 // falling. Boundary vertices move along the boundary only (the mean of their two boundary
@@ -102,8 +105,10 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
   const int levels = h.levels();
   const std::size_t total = h.vertex_count(levels);
   if (guide.size() != 3 * total) throw std::invalid_argument("fit_to_surface: guide must hold one xyz per vertex");
-  if (options.relax_iterations < 0 || !(options.relax_step > 0 && options.relax_step <= 1))
-    throw std::invalid_argument("fit_to_surface: relax_iterations >= 0 and relax_step in (0, 1]");
+  if (options.relax_iterations < 0 || !(options.relax_step > 0 && options.relax_step <= 1) ||
+      options.normal_line_levels < 0)
+    throw std::invalid_argument(
+        "fit_to_surface: relax_iterations >= 0, relax_step in (0, 1] and normal_line_levels >= 0");
   const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const BoundaryCurves boundary(surface.mesh());
   const TriangleMesh& input = surface.mesh();
@@ -126,6 +131,33 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
     const std::vector<std::uint32_t>& triangles = h.triangles(j);
     const Adjacency adjacency(end, triangles);
 
+    // The codec's local-frame normal of each new vertex (FORMAT.md §5): the sum of the
+    // area-weighted normals of level j-1 at the ends of its edge, normalized. Shooting along it
+    // from the butterfly prediction leaves the vertex's detail along that normal only (a normal
+    // mesh, Guskov et al. 2000): no tangential components to code.
+    const std::vector<Vec> frame_normal = j <= options.normal_line_levels ? edge_frame_normals(h.topology(j - 1), x) : std::vector<Vec>{};
+
+    // Mean distance from v to its neighbours: the scale of the vertex's moves.
+    auto reach_of = [&](std::uint32_t v) {
+      double reach = 0;
+      const double n_count = adjacency.neighbour_offsets[v + 1] - adjacency.neighbour_offsets[v];
+      for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
+        const Vec d = sub(at(x, adjacency.neighbours[k]), at(x, v));
+        reach += std::sqrt(dot(d, d)) / n_count;
+      }
+      return reach;
+    };
+    // A face of the level is folded when it faces away from the input normals under its corners.
+    auto folded = [&](std::size_t f) {
+      const std::uint32_t* t = &triangles[3 * f];
+      Vec reference{0, 0, 0};
+      for (int i = 0; i < 3; ++i) {
+        const Vec m = input_normal(face_of[t[i]]);
+        for (int c = 0; c < 3; ++c) reference[c] += m[c];
+      }
+      return dot(face_normal(x, t), reference) <= 0;
+    };
+
     // One Jacobi round over `vertices`: optionally a tangential umbrella move of `step`, then
     // projection on the input (boundary vertices: on its boundary curves).
     auto round = [&](const std::vector<std::uint32_t>& vertices, bool smooth, double step) {
@@ -140,13 +172,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
           const double n_len = std::sqrt(dot(n, n));
           if (n_len > 0)
             for (double& c : n) c /= n_len;
-          // Mean distance to the neighbours: the scale of the vertex's moves.
-          double reach = 0;
-          const double n_count = adjacency.neighbour_offsets[v + 1] - adjacency.neighbour_offsets[v];
-          for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
-            const Vec d = sub(at(x, adjacency.neighbours[k]), p);
-            reach += std::sqrt(dot(d, d)) / n_count;
-          }
+          const double reach = reach_of(v);
           if (smooth) {
             Vec mean{0, 0, 0};
             const auto& offsets = on_boundary ? adjacency.boundary_neighbour_offsets : adjacency.neighbour_offsets;
@@ -200,38 +226,107 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
       if (options.progress) options.progress(work_done / work_total);
     }
 
-    // Untangling: a face is folded when it faces away from the input normals under its corners.
-    // Its corners and their neighbours (base vertices excepted) take full umbrella steps until
-    // no face of the level is folded, or the count stops falling.
+    // Normal-line placement: each new vertex shot along its frame normal from the point of the
+    // normal line through its butterfly prediction at the start's height (the guide's, or the
+    // prediction itself), kept where it lands near the placement above (not on another sheet
+    // or part): there the vertex's detail has no tangential part (a normal mesh).
+    if (j <= options.normal_line_levels) {
+      std::vector<double> predicted(x.begin(), x.begin() + 3 * std::ptrdiff_t{end});
+      std::fill(predicted.begin() + 3 * std::ptrdiff_t{first}, predicted.end(), 0.0);
+      butterfly.synthesize(predicted, 3, j, j - 1);
+      next.assign(3 * fresh.size(), 0.0);
+      next_face.assign(fresh.size(), kNone);
+      parallel_blocks(fresh.size(), threads, [&](std::size_t begin, std::size_t stop) {
+        for (std::size_t i = begin; i < stop; ++i) {
+          const std::uint32_t v = fresh[i];
+          const Vec& n = frame_normal[v - first];
+          if (adjacency.on_boundary(v) || n == Vec{0, 0, 0}) continue;
+          const Vec p = at(x, v), start_from = j <= options.guide_levels ? at(guide, v) : at(predicted, v);
+          const double reach = reach_of(v);
+          const Vec q = at(predicted, v);
+          const double height = dot(sub(start_from, q), n);
+          const SurfacePoint s = shoot(surface, {q[0] + height * n[0], q[1] + height * n[1], q[2] + height * n[2]}, n, 2 * reach);
+          if (s.face == kNone) continue;
+          const Vec moved = sub(s.point, p);
+          if (dot(moved, moved) > reach * reach) continue;
+          next[3 * i] = s.point[0], next[3 * i + 1] = s.point[1], next[3 * i + 2] = s.point[2];
+          next_face[i] = s.face;
+        }
+      });
+      // Moved vertices keep their placement above to undo with; a face that faced the input
+      // and would face away after the moves gets its moved corners back, until none does.
+      std::vector<std::uint8_t> folded_before(triangles.size() / 3);
+      for (std::size_t f = 0; f < folded_before.size(); ++f) folded_before[f] = folded(f);
+      std::vector<double> old_position(3 * fresh.size());
+      std::vector<std::uint32_t> old_face(fresh.size());
+      for (std::size_t i = 0; i < fresh.size(); ++i) {
+        const std::uint32_t v = fresh[i];
+        for (int c = 0; c < 3; ++c) old_position[3 * i + c] = x[3 * v + c];
+        old_face[i] = face_of[v];
+        if (next_face[i] == kNone) continue;
+        for (int c = 0; c < 3; ++c) x[3 * v + c] = next[3 * i + c];
+        face_of[v] = next_face[i];
+      }
+      for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t f = 0; f < folded_before.size(); ++f) {
+          if (folded_before[f] || !folded(f)) continue;
+          for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = triangles[3 * f + k];
+            if (v < first || next_face[v - first] == kNone) continue;
+            const std::size_t i = v - first;
+            for (int c = 0; c < 3; ++c) x[3 * v + c] = old_position[3 * i + c];
+            face_of[v] = old_face[i];
+            next_face[i] = kNone;
+            changed = true;
+          }
+        }
+      }
+    }
+
+    // Untangling: the corners of folded faces and their neighbours (base vertices excepted)
+    // take full umbrella steps until no face of the level is folded, or the count stops falling.
     std::size_t best = SIZE_MAX;
     for (int attempt = 0, stalled = 0; attempt < options.untangle_rounds && stalled < 5; ++attempt) {
       std::vector<std::uint8_t> marked(end, 0);
-      std::size_t folded = 0;
+      std::size_t folded_faces = 0;
       for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
+        if (!folded(f)) continue;
+        ++folded_faces;
         const std::uint32_t* t = &triangles[3 * f];
-        const Vec n = face_normal(x, t);
-        Vec reference{0, 0, 0};
-        for (int i = 0; i < 3; ++i) {
-          const Vec m = input_normal(face_of[t[i]]);
-          for (int c = 0; c < 3; ++c) reference[c] += m[c];
-        }
-        if (dot(n, reference) > 0) continue;
-        ++folded;
         for (int i = 0; i < 3; ++i) {
           marked[t[i]] = 1;
           for (std::uint32_t k = adjacency.neighbour_offsets[t[i]]; k < adjacency.neighbour_offsets[t[i] + 1]; ++k)
             marked[adjacency.neighbours[k]] = 1;
         }
       }
-      if (folded == 0) break;
-      stalled = folded < best ? 0 : stalled + 1;
-      best = std::min(best, folded);
+      if (folded_faces == 0) break;
+      stalled = folded_faces < best ? 0 : stalled + 1;
+      best = std::min(best, folded_faces);
       std::vector<std::uint32_t> tangled;
       for (std::uint32_t v = h.vertex_count(0); v < end; ++v)
         if (marked[v]) tangled.push_back(v);
       round(tangled, true, 1.0);
     }
   }
+}
+
+std::vector<std::array<double, 3>> edge_frame_normals(const TriangleTopology& coarse, std::span<const double> x) {
+  std::vector<Vec> area_normal(coarse.vertex_count, Vec{0, 0, 0});
+  for (std::size_t f = 0; f < coarse.triangles.size() / 3; ++f) {
+    const Vec fn = face_normal(x, &coarse.triangles[3 * f]);
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 3; ++c) area_normal[coarse.triangles[3 * f + i]][c] += fn[c];
+  }
+  std::vector<Vec> normals(coarse.edge_count());
+  for (std::size_t e = 0; e < coarse.edge_count(); ++e) {
+    const Vec& na = area_normal[coarse.edge_vertices[2 * e]];
+    const Vec& nb = area_normal[coarse.edge_vertices[2 * e + 1]];
+    const Vec n{na[0] + nb[0], na[1] + nb[1], na[2] + nb[2]};
+    const double length = std::sqrt(dot(n, n));
+    normals[e] = length > 0 && std::isfinite(length) ? Vec{n[0] / length, n[1] / length, n[2] / length} : Vec{0, 0, 0};
+  }
+  return normals;
 }
 
 bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, std::uint32_t* hint) {

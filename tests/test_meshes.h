@@ -78,6 +78,21 @@ inline SemiRegularMesh sphere_refinement(int levels) {
   return s;
 }
 
+
+/// A smooth closed surface that is no refinement of a coarser mesh in the order its vertices
+/// come: the icosahedron refined 4 times (2,562 vertices), pushed onto the bumpy sphere
+/// r = 1 + 0.15 sin(3x) sin(2y) sin(2z).
+inline TriangleMesh bumpy_sphere() {
+  SemiRegularMesh s = refine_linear(icosahedron(), 4);
+  for (std::size_t v = 0; v < s.positions.size() / 3; ++v) {
+    double* p = &s.positions[3 * v];
+    const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    const double x = p[0] / len, y = p[1] / len, z = p[2] / len;
+    const double r = 1 + 0.15 * std::sin(3 * x) * std::sin(2 * y) * std::sin(2 * z);
+    p[0] = r * x, p[1] = r * y, p[2] = r * z;
+  }
+  return s.finest();
+}
 /// Torus (genus 1) with `rings` x `sides` quads split into triangles; all vertices valence 6.
 inline TriangleMesh torus(int rings = 8, int sides = 6, double major = 1.0, double minor = 0.35) {
   TriangleMesh m;

@@ -5,6 +5,7 @@
 // placed unless they are next to a fold. No fold-free guarantee: docs/RESULTS.md counts them.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <span>
@@ -28,6 +29,13 @@ struct SurfaceFitOptions {
   /// Levels 1..guide_levels start their new vertices at the guide, the finer ones at the
   /// butterfly prediction from the level below (>= 0).
   int guide_levels = 1;
+  /// Levels 1..normal_line_levels also try the normal-line placement (surface_fit.cpp): each new
+  /// vertex shot along its codec frame normal (edge_frame_normals) from the line through its
+  /// butterfly prediction, kept where it lands within a mean edge length of the placement by
+  /// the vertex normal and folds no face that did not fold. Such a vertex's detail has no
+  /// tangential part. Measured (docs/RESULTS.md): level 1 is where the tangential details were
+  /// (the guide's points are far off those lines), the finer levels gain nothing; >= 0.
+  int normal_line_levels = 1;
   /// Threads for the projections (results do not depend on it); 0 = hardware concurrency.
   unsigned threads = 0;
   std::function<void(double)> progress;
@@ -39,6 +47,13 @@ struct SurfaceFitOptions {
 /// \throw std::invalid_argument if guide has the wrong size or an option is out of range.
 void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const SurfaceQuery& surface,
                     const SurfaceFitOptions& options = {});
+
+/// The unit normal of the codec's local frame (FORMAT.md §5) for the new vertex on each edge of
+/// `coarse`, from the positions x of its vertices: the sum of the area-weighted vertex normals at
+/// the edge's ends, normalized (0 where that sum is 0). A new vertex placed on the line through
+/// its butterfly prediction along this normal has a detail along the normal only (normal
+/// meshes, Guskov et al. 2000): no tangential components to code.
+std::vector<std::array<double, 3>> edge_frame_normals(const TriangleTopology& coarse, std::span<const double> x);
 
 /// Faces of `remeshed` facing away from `surface`: a face is flipped when its normal makes more
 /// than 90° with the normal of the surface face closest to its centroid; degenerate when its

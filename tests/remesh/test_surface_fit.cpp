@@ -1,0 +1,108 @@
+// Placing a refined base on the input surface (surface_fit.h): the normal-line placement.
+#include <cmath>
+#include <cstddef>
+
+#include "meshlift/closest_point.h"
+#include "meshlift/decimate.h"
+#include "meshlift/lifting.h"
+#include "meshlift/surface_fit.h"
+#include "test_meshes.h"
+
+using namespace meshlift;
+
+namespace {
+
+/// How many level-1 vertices of `mesh` lie on the line through their butterfly prediction along
+/// their frame normal (tangential part of the detail below 1e-5 of the detail's length: the ray
+/// hits are computed in single precision), and how many are off a boundary.
+std::pair<std::size_t, std::size_t> on_normal_lines(const SemiRegularMesh& mesh) {
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  std::vector<double> predicted(mesh.positions.begin(), mesh.positions.begin() + 3 * std::ptrdiff_t{h.vertex_count(1)});
+  std::fill(predicted.begin() + 3 * std::ptrdiff_t{h.vertex_count(0)}, predicted.end(), 0.0);
+  WaveletTransform(h, {Scheme::butterfly}).synthesize(predicted, 3, 1, 0);
+  const std::vector<std::array<double, 3>> normal = edge_frame_normals(h.topology(0), mesh.positions);
+  std::size_t on_line = 0;
+  for (std::uint32_t e = 0; e < normal.size(); ++e) {
+    const std::uint32_t v = h.odd_vertex(0, e);
+    double d[3], along = 0, length2 = 0;
+    for (int c = 0; c < 3; ++c) d[c] = mesh.positions[3 * v + c] - predicted[3 * v + c];
+    for (int c = 0; c < 3; ++c) along += d[c] * normal[e][c], length2 += d[c] * d[c];
+    const double tangential2 = length2 - along * along;
+    if (tangential2 <= 1e-10 * length2) ++on_line;
+  }
+  return {on_line, normal.size()};
+}
+
+}  // namespace
+
+TEST_CASE("The codec's frame normal of an edge is the normalized sum of its ends' area-weighted normals",
+          "[remesh][surface_fit]") {
+  // A flat square split into two triangles: every frame normal is +z.
+  const std::vector<std::uint32_t> two_faces = {0, 1, 2, 0, 2, 3};
+  const TriangleTopology square = TriangleTopology::build(4, two_faces);
+  const std::vector<double> x = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  for (const auto& n : edge_frame_normals(square, x)) {
+    CHECK(n[0] == 0);
+    CHECK(n[1] == 0);
+    CHECK(n[2] == 1);
+  }
+  // A roof: two faces folded 90 degrees along the edge 0-2; the ridge's normal bisects them.
+  const std::vector<double> roof = {0, 0, 0, 1, 0, 1, 1, 1, 0, 0, 1, 1};
+  const TriangleTopology ridge = TriangleTopology::build(4, two_faces);
+  const std::vector<std::array<double, 3>> normals = edge_frame_normals(ridge, roof);
+  for (std::uint32_t e = 0; e < ridge.edge_count(); ++e) {
+    const std::uint32_t a = ridge.edge_vertices[2 * e], b = ridge.edge_vertices[2 * e + 1];
+    if ((a == 0 && b == 2) || (a == 2 && b == 0)) {
+      // Face normals (-1, 0, 1)/sqrt(2) and (1, 0, 1)/sqrt(2) (times twice the areas, equal).
+      CHECK(normals[e][0] == Approx(0).margin(1e-15));
+      CHECK(normals[e][2] == Approx(1));
+    }
+  }
+  // No area at the ends: a zero normal, not a NaN.
+  const std::vector<double> collapsed(12, 0.0);
+  for (const auto& n : edge_frame_normals(square, collapsed)) CHECK((n[0] == 0 && n[1] == 0 && n[2] == 0));
+}
+
+TEST_CASE("The normal-line placement puts level-1 vertices on their frame normal through the prediction",
+          "[remesh][surface_fit]") {
+  const TriangleMesh input = test::bumpy_sphere();
+  const SurfaceQuery surface(input);
+  DecimateOptions decimate_options;
+  decimate_options.target_vertices = 80;
+  const TriangleMesh base = decimate(input, decimate_options).base;
+  const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles), 2);
+  // The guide: Loop subdivision of the base, as the remesher starts level 1 from (its limit
+  // surface; the refinement is as good a start for this test). Its points are off the normal lines.
+  std::vector<double> guide(3 * std::size_t{h.vertex_count(2)}, 0.0);
+  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
+  WaveletTransform(h, {Scheme::loop}).synthesize(guide);
+  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
+
+  SurfaceFitOptions with_lines, without;
+  without.normal_line_levels = 0;
+  SemiRegularMesh placed{h, {}, {}}, control{h, {}, {}};
+  fit_to_surface(placed, guide, surface, with_lines);
+  fit_to_surface(control, guide, surface, without);
+
+  const auto [on_line, total] = on_normal_lines(placed);
+  const auto [control_on_line, control_total] = on_normal_lines(control);
+  INFO("on their normal lines: " << on_line << " of " << total << " with, " << control_on_line << " without");
+  CHECK(on_line >= 0.8 * static_cast<double>(total));
+  CHECK(control_on_line <= 0.1 * static_cast<double>(control_total));
+  // No more folds than without.
+  const FoldOvers folds = find_fold_overs(placed.finest(), surface), control_folds = find_fold_overs(control.finest(), surface);
+  INFO("folded faces: " << folds.flipped.size() << " with, " << control_folds.flipped.size() << " without");
+  CHECK(folds.flipped.size() <= control_folds.flipped.size());
+  CHECK(folds.degenerate.empty());
+}
+
+TEST_CASE("fit_to_surface refuses a negative normal_line_levels", "[remesh][surface_fit]") {
+  const TriangleMesh input = test::icosahedron();
+  const SurfaceQuery surface(input);
+  const SemiRegularHierarchy h(TriangleTopology::build(12, input.triangles), 1);
+  SemiRegularMesh mesh{h, {}, {}};
+  std::vector<double> guide(3 * std::size_t{h.vertex_count(1)}, 0.0);
+  SurfaceFitOptions options;
+  options.normal_line_levels = -1;
+  CHECK_THROWS_AS(fit_to_surface(mesh, guide, surface, options), std::invalid_argument);
+}
