@@ -195,3 +195,19 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   CHECK_THAT(not_mlz.output, Catch::Contains("bad_magic"));
   fs::remove_all(dir);
 }
+
+TEST_CASE("encode's default scheme is the wavelet that predicts the mesh best", "[cli][codec]") {
+  // Subdivided by a scheme with zero details, the mesh has zero details for that scheme's wavelet
+  // alone: auto takes it (and `info` agrees with what the summary line says).
+  const fs::path dir = scratch();
+  const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
+  for (const std::string scheme : {"linear", "butterfly", "loop"}) {
+    INFO(scheme);
+    const std::string fine = (dir / ("tet_" + scheme + ".off")).string(), mlz = (dir / ("tet_" + scheme + ".mlz")).string();
+    REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme " + scheme + " --levels 3").exit_code == 0);
+    const auto encoded = run("encode " + fine + " -o " + mlz);
+    REQUIRE(encoded.exit_code == 0);
+    CHECK_THAT(encoded.output, Catch::Contains("auto: " + scheme + " ->"));
+    CHECK_THAT(run("info " + mlz).output, Catch::Contains("wavelet:      " + scheme));
+  }
+}
