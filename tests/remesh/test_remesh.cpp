@@ -40,6 +40,11 @@ TEST_CASE("Remeshing a smooth closed surface gives a close semi-regular mesh wit
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   INFO("PSNR " << d.psnr_db() << " dB, " << h.vertex_count(3) << " vertices");
   CHECK(d.psnr_db() > 70);
+  // Stage times, in pipeline order (the automatic density runs the stages once or twice).
+  REQUIRE(result.stage_seconds.size() >= 3);
+  CHECK(result.stage_seconds.front().first == "decimate");
+  CHECK(result.stage_seconds.back().first == "choose density");
+  for (const auto& [stage, seconds] : result.stage_seconds) CHECK(seconds >= 0);
   // Loop fitting of the base brings the start positions closer: not worse than without.
   options.fit = BaseFit::none;
   const RemeshResult unfitted = remesh(input, options);
