@@ -185,7 +185,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
       });
       normals = std::move(level_frames).release_storage();
     }
-    normals = {};
+    normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
     // The centres back (synthesis reproduces constants, so adding them after it is adding them
     // to the base values; the encoder's closed loop works on the centred values too).
     const std::uint32_t n = h.vertex_count(result.level);
