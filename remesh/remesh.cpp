@@ -330,10 +330,18 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // and would leave the second core idle); it is used only if the sparser remesh falls short.
     std::future<DecimateResult> dense_base =
         std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1]); });
+    auto fold_free = [](const RemeshResult& r) { return r.flipped_triangles == 0 && r.degenerate_triangles == 0; };
     RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5);
     const double sparse_psnr = psnr(sparse);
-    if (sparse_psnr >= options.auto_density_psnr && sparse.flipped_triangles == 0 && sparse.degenerate_triangles == 0)
+    if (sparse_psnr >= options.auto_density_psnr && fold_free(sparse)) {
+      // Far within the threshold (a smooth mesh): sparser still, if that stays within it
+      // (bear_bis: 84.6 dB at 2x, 83.1 at 1.5x; BD-rate against Draco -76.8 -> -80.5 %).
+      if (sparse_psnr >= options.sparsest_density_psnr) {
+        RemeshResult sparsest = by_decimation(kSparsestAutoDensity, 0.5, 1);
+        if (psnr(sparsest) >= options.auto_density_psnr && fold_free(sparsest)) return sparsest;
+      }
       return sparse;
+    }
     // A decimation that stopped at or above the denser target would give the same base (cow
     // stops at 193 vertices for both).
     if (sparse.base_vertices >= automatic_remesh_base(mesh, options.levels, kAutoDensities[1])) return sparse;

@@ -151,11 +151,21 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   REQUIRE(options.density == 0);  // automatic by default
   MetricOptions metric;
   metric.samples = 200'000;
-  // A smooth surface: the 2x remesh is within the threshold, and it is what comes back.
+  // A smooth surface: the 2x remesh is within the threshold, and it is what comes back (when it
+  // is not far within: see below).
   options.auto_density_psnr = 60;
+  options.sparsest_density_psnr = 500;
   const RemeshResult sparse = remesh(input, options);
   CHECK(sparse.density == 2);
   CHECK(surface_distance(input, sparse.mesh.finest(), metric).psnr_db() >= 60);
+  // Far within the threshold: sparser still, if that remesh is within it too (not if it is not).
+  options.sparsest_density_psnr = 60;
+  const RemeshResult sparsest = remesh(input, options);
+  CHECK(sparsest.density == kSparsestAutoDensity);
+  CHECK(surface_distance(input, sparsest.mesh.finest(), metric).psnr_db() >= 60);
+  CHECK(sparsest.mesh.hierarchy.vertex_count(0) < sparse.mesh.hierarchy.vertex_count(0));
+  options.auto_density_psnr = surface_distance(input, sparsest.mesh.finest(), metric).psnr_db() + 0.5;
+  CHECK(remesh(input, options).density == 2);
   // A threshold no 2x remesh reaches: the 4x one, identical to asking for density 4.
   options.auto_density_psnr = 500;
   const RemeshResult dense = remesh(input, options);

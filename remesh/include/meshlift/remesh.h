@@ -42,13 +42,17 @@ struct RemeshOptions {
   std::size_t base_vertices = 0;
   /// Vertices of the remesh per input vertex that the automatic base size aims at, in [1, 1024],
   /// or 0: automatic: the sparser of kAutoDensities if its remesh reaches auto_density_psnr
-  /// against the input (metric.h) and has no folded face, else the closer of the two. Measured (docs/RESULTS.md): 4x gives the
+  /// against the input (metric.h) and has no folded face, else the closer of the two; where the
+  /// sparser reaches sparsest_density_psnr, kSparsestAutoDensity if that one qualifies too. Measured (docs/RESULTS.md): 4x gives the
   /// closer remesh (about 4-9 dB above 2x where both work); 2x codes the 55-75 dB range in
   /// fewer bits (BD-rate against Draco: armadillo -70 % instead of -61 %, bear_bis -74 % instead
   /// of -64 %) but misses limbs on some meshes (camel 59 dB, elephant 49 dB at 2x).
   double density = 0;
   /// The remesh error (PSNR, dB) a 2x remesh must reach for the automatic density to keep it.
   double auto_density_psnr = 75;
+  /// When the 2x remesh reaches this (dB), the automatic density also makes the
+  /// kSparsestAutoDensity one and keeps it if it reaches auto_density_psnr with no fold.
+  double sparsest_density_psnr = 80;
   BaseFit fit = BaseFit::loop;
   /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
   /// 0 leaves every vertex on the input surface where the fitting stage placed it.
@@ -64,6 +68,8 @@ struct RemeshOptions {
 
 /// The densities the automatic choice tries, sparser first.
 inline constexpr double kAutoDensities[] = {2, 4};
+/// The sparser density tried where the 2x remesh is far within the threshold (smooth meshes).
+inline constexpr double kSparsestAutoDensity = 1.5;
 
 struct RemeshResult {
   SemiRegularMesh mesh;
