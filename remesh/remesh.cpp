@@ -7,7 +7,9 @@
 //                          every vertex of the L-times refined base;
 //   surface_fit.cpp        coarse to fine, the new vertices of each level are placed on the
 //                          input by normal shooting from the guide (or the butterfly prediction
-//                          from the level below), and folded faces are untangled;
+//                          from the level below), level 1 then on the codec's normal lines
+//                          where that folds nothing (details with no tangential part), and
+//                          folded faces are untangled;
 //   untangle.cpp           patches of folded faces are re-embedded (Tutte) and put back on
 //                          the input;
 //   least_squares_fit.cpp  the vertices move off the surface where that brings the mesh
@@ -86,9 +88,9 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 }
 
 /// From the decimated base: fit the base, build the guide, place the refinement on the surface
-/// and untangle it (place_refinement), fit it by least squares, untangle again. With --fit loop
-/// there are two guides and the placed refinement that folds fewer faces, or as many and is
-/// closer to the input, goes on.
+/// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
+/// by least squares, untangle again. With --fit loop there are two guides; the placement that
+/// folds fewest faces goes on, one with normal lines among equals, then the closer to the input.
 RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateResult& decimated,
                                   int levels, BaseFit fit, int least_squares_rounds,
                                   const std::function<void(double)>& report,
@@ -169,7 +171,7 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
     };
     std::vector<std::future<Placed>> others;
     for (std::size_t g = 1; g < guides.size(); ++g) others.push_back(std::async(std::launch::async, place, g, [](double) {}));
-    candidates.push_back(place(0, [&](double f) { report(0.2 + (normal_lines ? 0.4 : 0.15) * f); }));
+    candidates.push_back(place(0, [&](double f) { report(normal_lines ? 0.2 + 0.4 * f : 0.6 + 0.15 * f); }));
     for (auto& future : others) candidates.push_back(future.get());
   };
   // The best of some candidates: fewest folds, then normal lines, then closest to the input.
