@@ -8,7 +8,8 @@
 //   surface_fit.cpp        coarse to fine, the new vertices of each level are placed on the
 //                          input by normal shooting from the guide (or the butterfly prediction
 //                          from the level below), level 1 then on the codec's normal lines
-//                          where that folds nothing (details with no tangential part), and
+//                          where that folds nothing (details with no tangential part as
+//                          placed; the least-squares fit adds a little), and
 //                          folded faces are untangled;
 //   untangle.cpp           patches of folded faces are re-embedded (Tutte) and put back on
 //                          the input;
@@ -16,8 +17,8 @@
 //                          closer to it in the least-squares sense, both ways (Hoppe 1993);
 //                          then untangle.cpp once more.
 //   With --fit loop the refinement is placed from two guides (the fitted limit surface, and one
-//   that takes the unfitted limit where that is closer to the input); the one with fewer folds
-//   goes on.
+//   that takes the unfitted limit where that is closer to the input); the placement with fewest
+//   folds goes on, one with normal lines among equals, then the one closer to the input.
 //   (geometry_image.cpp    --method sphere: the octahedral spherical geometry image instead.)
 #include "meshlift/remesh.h"
 
@@ -180,7 +181,7 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
     const auto best_key =
         key(*std::min_element(from.begin(), from.end(), [&](const Placed& a, const Placed& b) { return key(a) < key(b); }));
     std::optional<Placed> chosen;
-    double chosen_psnr = 0;
+    std::optional<double> chosen_psnr;  // computed at the first tie only
     for (Placed& candidate : from) {
       if (key(candidate) != best_key) continue;
       if (!chosen) {
@@ -188,8 +189,8 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
         continue;
       }
       // A tie: the closer to the input.
-      if (chosen_psnr == 0) chosen_psnr = remesh_psnr(mesh, *chosen->mesh);
-      if (const double psnr = remesh_psnr(mesh, *candidate.mesh); psnr > chosen_psnr)
+      if (!chosen_psnr) chosen_psnr = remesh_psnr(mesh, *chosen->mesh);
+      if (const double psnr = remesh_psnr(mesh, *candidate.mesh); psnr > *chosen_psnr)
         chosen = std::move(candidate), chosen_psnr = psnr;
     }
     return std::move(*chosen);
@@ -284,7 +285,11 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
 
   const SurfaceQuery surface(mesh);
   auto by_sphere = [&](int levels) {
+    std::vector<std::pair<std::string, double>> sphere_stages;
+    StageClock clock(sphere_stages);
     RemeshResult result{remesh_sphere(mesh, levels)};
+    clock.lap("sphere");
+    result.stage_seconds = std::move(sphere_stages);
     result.method = RemeshMethod::sphere;
     result.base_vertices = result.mesh.hierarchy.vertex_count(0);
     const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
@@ -360,8 +365,13 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
                std::abs(std::log(std::pow(4.0, sphere_levels + 1) + 2) - std::log(target)))
       ++sphere_levels;
     RemeshResult sphere = by_sphere(sphere_levels);
-    if (surface_distance(mesh, sphere.mesh.finest()).rms < surface_distance(mesh, result.mesh.finest()).rms)
-      result = std::move(sphere);
+    const bool sphere_closer =
+        surface_distance(mesh, sphere.mesh.finest()).rms < surface_distance(mesh, result.mesh.finest()).rms;
+    // Both remeshes' times, whichever is kept.
+    std::vector<std::pair<std::string, double>> stages = std::move(result.stage_seconds);
+    stages.insert(stages.end(), sphere.stage_seconds.begin(), sphere.stage_seconds.end());
+    if (sphere_closer) result = std::move(sphere);
+    result.stage_seconds = std::move(stages);
   }
   report(1);
   return result;

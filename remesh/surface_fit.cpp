@@ -8,7 +8,8 @@
 // umbrella vector and place it again (off by default: measured, they fold more faces). On the
 // coarsest levels, the normal-line placement then moves each new vertex, where that is safe, to
 // the surface point on the line through its butterfly prediction along the codec's frame normal
-// (a normal mesh: its detail has no tangential part, so the codec spends no bits on one). Last,
+// (a normal mesh: as placed its detail has no tangential part, so the codec spends few bits on
+// one; the later fitting moves it a little). Last,
 // untangling: the corners of faces that face away from the input, and their neighbours, take
 // full umbrella steps and are placed again, until no face of the level folds or the count stops
 // falling. Boundary vertices move along the boundary only (the mean of their two boundary

@@ -78,9 +78,8 @@ inline SemiRegularMesh sphere_refinement(int levels) {
   return s;
 }
 
-
-/// A smooth closed surface that is no refinement of a coarser mesh in the order its vertices
-/// come: the icosahedron refined 4 times (2,562 vertices), pushed onto the bumpy sphere
+/// A smooth closed surface: the icosahedron refined 4 times (2,562 vertices, in level order, so
+/// remesh() recognizes it unless told not to), pushed onto the bumpy sphere
 /// r = 1 + 0.15 sin(3x) sin(2y) sin(2z).
 inline TriangleMesh bumpy_sphere() {
   SemiRegularMesh s = refine_linear(icosahedron(), 4);
@@ -93,6 +92,7 @@ inline TriangleMesh bumpy_sphere() {
   }
   return s.finest();
 }
+
 /// Torus (genus 1) with `rings` x `sides` quads split into triangles; all vertices valence 6.
 inline TriangleMesh torus(int rings = 8, int sides = 6, double major = 1.0, double minor = 0.35) {
   TriangleMesh m;

@@ -50,14 +50,15 @@ std::size_t bytes_for_psnr(const std::vector<std::uint8_t>& file, const std::vec
 /// energy, the one that predicts the mesh best: zero for Loop on a Loop-subdivided mesh; on
 /// remeshes butterfly, whose prediction the remesher's normal lines go through (armadillo, ~2x:
 /// linear 5.1e3, butterfly 2.4e3, Loop 1.0e5; at 2 bits per input vertex butterfly gives 64.4 dB
-/// against Loop's 53.6, docs/RESULTS.md). Ties go to the first of butterfly, Loop, linear.
-Scheme least_energy_scheme(const SemiRegularMesh& mesh) {
+/// against Loop's 53.6, docs/RESULTS.md). Ties go to the first of butterfly, Loop, linear. With
+/// --update the interpolating schemes are measured with it (Loop has its own update).
+Scheme least_energy_scheme(const SemiRegularMesh& mesh, bool mean_preserving_update) {
   const SemiRegularHierarchy& h = mesh.hierarchy;
   Scheme best = Scheme::butterfly;
   double best_energy = std::numeric_limits<double>::infinity();
   for (const Scheme scheme : {Scheme::butterfly, Scheme::loop, Scheme::linear}) {
     std::vector<double> values = mesh.positions;
-    WaveletTransform(h, {scheme}).analyze(values);
+    WaveletTransform(h, {scheme, mean_preserving_update}).analyze(values);
     double energy = 0;
     for (std::size_t i = 3 * std::size_t{h.vertex_count(0)}; i < values.size(); ++i) energy += values[i] * values[i];
     if (energy < best_energy) best = scheme, best_energy = energy;
@@ -93,7 +94,7 @@ int run_encode(const EncodeArgs& a) {
                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_remesh).count());
   const SemiRegularMesh* mesh = &remeshed->mesh;
   EncodeOptions options;
-  options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh) : parse_scheme(a.scheme);
+  options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh, a.update) : parse_scheme(a.scheme);
   options.mean_preserving_update = a.update;
   options.precision_bits = a.bits;
   apply_frame_options(a.frames, options);

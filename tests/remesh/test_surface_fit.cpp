@@ -1,7 +1,12 @@
 // Placing a refined base on the input surface (surface_fit.h): the normal-line placement.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
+#include <vector>
 
+#include "../../codec/local_frames.h"
 #include "meshlift/closest_point.h"
 #include "meshlift/decimate.h"
 #include "meshlift/lifting.h"
@@ -14,7 +19,7 @@ namespace {
 
 /// How many level-1 vertices of `mesh` lie on the line through their butterfly prediction along
 /// their frame normal (tangential part of the detail below 1e-5 of the detail's length: the ray
-/// hits are computed in single precision), and how many are off a boundary.
+/// hits are computed in single precision), and how many level-1 vertices there are.
 std::pair<std::size_t, std::size_t> on_normal_lines(const SemiRegularMesh& mesh) {
   const SemiRegularHierarchy& h = mesh.hierarchy;
   std::vector<double> predicted(mesh.positions.begin(), mesh.positions.begin() + 3 * std::ptrdiff_t{h.vertex_count(1)});
@@ -46,21 +51,44 @@ TEST_CASE("The codec's frame normal of an edge is the normalized sum of its ends
     CHECK(n[1] == 0);
     CHECK(n[2] == 1);
   }
-  // A roof: two faces folded 90 degrees along the edge 0-2; the ridge's normal bisects them.
+  // A roof: two faces of equal area along the ridge 0-2, with normals (1, -1, 1) and (-1, 1, 1)
+  // (times twice their area); the ridge's frame normal bisects them: +z.
   const std::vector<double> roof = {0, 0, 0, 1, 0, 1, 1, 1, 0, 0, 1, 1};
   const TriangleTopology ridge = TriangleTopology::build(4, two_faces);
   const std::vector<std::array<double, 3>> normals = edge_frame_normals(ridge, roof);
   for (std::uint32_t e = 0; e < ridge.edge_count(); ++e) {
     const std::uint32_t a = ridge.edge_vertices[2 * e], b = ridge.edge_vertices[2 * e + 1];
     if ((a == 0 && b == 2) || (a == 2 && b == 0)) {
-      // Face normals (-1, 0, 1)/sqrt(2) and (1, 0, 1)/sqrt(2) (times twice the areas, equal).
       CHECK(normals[e][0] == Approx(0).margin(1e-15));
+      CHECK(normals[e][1] == Approx(0).margin(1e-15));
       CHECK(normals[e][2] == Approx(1));
     }
   }
   // No area at the ends: a zero normal, not a NaN.
   const std::vector<double> collapsed(12, 0.0);
   for (const auto& n : edge_frame_normals(square, collapsed)) CHECK((n[0] == 0 && n[1] == 0 && n[2] == 0));
+}
+
+TEST_CASE("The remesher's frame normals are the codec's (codec/local_frames.h, FORMAT.md §5)", "[remesh][surface_fit]") {
+  // The normal lines are worth something only while they are the codec's own normals: on a
+  // curved mesh with faces of unequal areas, every edge of two levels against the frames the
+  // encoder rotates details by.
+  const SemiRegularMesh mesh = refine_linear(test::bumpy_sphere(), 2);
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  for (int level = 0; level < 2; ++level) {
+    const std::vector<std::array<double, 3>> normals = edge_frame_normals(h.topology(level), mesh.positions);
+    std::size_t compared = 0;
+    frames::for_each_frame_block(h, level, mesh.positions, 3, [&](const frames::FrameBlock& block) {
+      for (std::uint32_t i = 0; i < block.count; ++i, ++compared) {
+        const auto& n = normals[block.first_edge + i];
+        REQUIRE_FALSE(block.identity[i]);
+        CHECK(n[0] == Approx(block.nx[i]).margin(1e-12));
+        CHECK(n[1] == Approx(block.ny[i]).margin(1e-12));
+        CHECK(n[2] == Approx(block.nz[i]).margin(1e-12));
+      }
+    });
+    CHECK(compared == normals.size());
+  }
 }
 
 TEST_CASE("The normal-line placement puts level-1 vertices on their frame normal through the prediction",

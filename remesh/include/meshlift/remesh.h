@@ -86,9 +86,10 @@ struct RemeshResult {
   /// both 0 in a good remesh; docs/RESULTS.md counts them on the corpus.
   std::size_t flipped_triangles = 0;
   std::size_t degenerate_triangles = 0;
-  /// Wall-clock seconds per stage, in pipeline order (decimate, fit base, guides, place,
-  /// least squares, untangle, check; a stage run twice, as the automatic density may, is listed
-  /// twice): where a remesh spends its time (docs/RESULTS.md).
+  /// Wall-clock seconds per stage, in pipeline order ("decimate" (or "decimate (rest of the one
+  /// run alongside)"), "fit base", "guides", "place and compare", "least squares and untangle",
+  /// then "choose density" with the automatic density, whose remeshes each list their stages;
+  /// "sphere" for a sphere remesh): where a remesh spends its time (docs/RESULTS.md).
   std::vector<std::pair<std::string, double>> stage_seconds{};
 };
 

@@ -33,7 +33,7 @@ struct SurfaceFitOptions {
   /// vertex shot along its codec frame normal (edge_frame_normals) from the line through its
   /// butterfly prediction, kept where it lands within a mean edge length of the placement by
   /// the vertex normal and folds no face that did not fold. Such a vertex's detail has no
-  /// tangential part. Measured (docs/RESULTS.md): level 1 is where the tangential details were
+  /// tangential part as placed. Measured (docs/RESULTS.md): level 1 is where the tangential details were
   /// (the guide's points are far off those lines), the finer levels gain nothing; >= 0.
   int normal_line_levels = 1;
   /// Threads for the projections (results do not depend on it); 0 = hardware concurrency.
