@@ -306,27 +306,24 @@ int main(int argc, char** argv) {
               path_peak / V, path_time.user, path_time.system);
   // The same as the decoder runs it now: no stored tree, synthesize_level() (Loop rows a block at
   // a time, no tables kept).
-  const double level_path_peak = peak_bytes_added([&] {
-    path_time = best_of(1, [&] {
-      SemiRegularHierarchy lean(mesh.hierarchy.topology(0), levels, false, false);
-      std::vector<double> positions = mesh.positions;
-      for (int j = 0; j < levels; ++j) synthesize_level(lean, WaveletOptions{Scheme::loop, false}, j, positions);
-      TriangleMesh out{std::move(positions), std::move(lean).release_finest_triangles()};
+  // Peak of the decoder's geometry path with or without the topology of level L - 1.
+  auto decoder_path_peak = [&](bool keep_topology_below_finest) {
+    return peak_bytes_added([&] {
+      path_time = best_of(1, [&] {
+        SemiRegularHierarchy lean(mesh.hierarchy.topology(0), levels, false, false, keep_topology_below_finest);
+        std::vector<double> positions = mesh.positions;
+        for (int j = 0; j < levels; ++j) synthesize_level(lean, WaveletOptions{Scheme::loop, false}, j, positions);
+        TriangleMesh out{std::move(positions), std::move(lean).release_finest_triangles()};
+      });
     });
-  });
+  };
+  const double level_path_peak = decoder_path_peak(true);
   std::printf("  the decoder's geometry path (no tree, synthesize_level() per level): peak %.0f bytes per vertex,\n"
               "  %.3f s user, %.3f s sys\n",
               level_path_peak / V, path_time.user, path_time.system);
   // As the decoder runs it now for Loop: also without the topology of level L - 1 (its frames,
   // synthesis and faces read off level L - 2).
-  const double lean_path_peak = peak_bytes_added([&] {
-    path_time = best_of(1, [&] {
-      SemiRegularHierarchy lean(mesh.hierarchy.topology(0), levels, false, false, false);
-      std::vector<double> positions = mesh.positions;
-      for (int j = 0; j < levels; ++j) synthesize_level(lean, WaveletOptions{Scheme::loop, false}, j, positions);
-      TriangleMesh out{std::move(positions), std::move(lean).release_finest_triangles()};
-    });
-  });
+  const double lean_path_peak = decoder_path_peak(false);
   std::printf("  ... and without the topology of level L-1 (the decoder's for Loop): peak %.0f bytes per vertex,\n"
               "  %.3f s user, %.3f s sys\n",
               lean_path_peak / V, path_time.user, path_time.system);
