@@ -208,29 +208,26 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
 
   place_each_guide(true);
   Placed placed = best_of(candidates);
+  // The normal-line placements fold: those without may fold fewer faces. When they do, the two
+  // best are finished (the last stages remove many folds) and compared as they end.
+  std::optional<Placed> plain;
   if (placed.folds() > 0) {
-    // The normal-line placements fold: those without may fold fewer faces. When they do, the
-    // two best are finished (the last stages remove many folds) and compared as they end.
     candidates.clear();
     place_each_guide(false);
-    Placed plain = best_of(candidates);
-    clock.lap("place and compare");
-    report(0.75);
-    if (plain.folds() >= placed.folds()) {
-      finish(placed);
-    } else {
-      std::future<void> other = std::async(std::launch::async, [&] { finish(plain); });
-      finish(placed);
-      other.get();
-      if (plain.folds() < placed.folds()) placed = std::move(plain);
-    }
-    clock.lap("least squares and untangle");
-  } else {
-    clock.lap("place and compare");
-    report(0.75);
-    finish(placed);
-    clock.lap("least squares and untangle");
+    plain = best_of(candidates);
+    if (plain->folds() >= placed.folds()) plain.reset();
   }
+  clock.lap("place and compare");
+  report(0.75);
+  if (plain) {
+    std::future<void> other = std::async(std::launch::async, [&] { finish(*plain); });
+    finish(placed);
+    other.get();
+    if (plain->folds() < placed.folds()) placed = std::move(*plain);
+  } else {
+    finish(placed);
+  }
+  clock.lap("least squares and untangle");
   report(0.9);
 
   RemeshResult result{std::move(*placed.mesh)};
