@@ -38,6 +38,7 @@
 #include "meshlift/lifting.h"
 #include "meshlift/limit.h"
 #include "meshlift/metric.h"
+#include "meshlift/self_intersection.h"
 #include "meshlift/spherical_parametrization.h"
 #include "meshlift/surface_fit.h"
 #include "meshlift/untangle.h"
@@ -294,8 +295,21 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     result.degenerate_triangles = folds.degenerate.size();
     return result;
   };
+  // Flipped faces where the input passes through itself (cow's tail through its body,
+  // mannequin-devil's hands): counted apart, since no orientation agrees with both sheets.
+  auto note_crossings = [&](RemeshResult& result) {
+    const std::vector<std::array<std::uint32_t, 2>> crossings = self_intersections(mesh);
+    result.input_crossing_pairs = crossings.size();
+    if (result.flipped_triangles == 0 || crossings.empty()) return;
+    std::vector<std::uint8_t> crossing(mesh.face_count(), 0);
+    for (const auto& [f, g] : crossings) crossing[f] = crossing[g] = 1;
+    const TriangleMesh finest = result.mesh.finest();
+    result.flipped_where_input_crosses =
+        count_at_crossings(finest, find_fold_overs(finest, surface).flipped, surface, crossing);
+  };
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);
+    note_crossings(result);
     report(1);
     return result;
   }
@@ -370,6 +384,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (sphere_closer) result = std::move(sphere);
     result.stage_seconds = std::move(stages);
   }
+  note_crossings(result);
   report(1);
   return result;
 }

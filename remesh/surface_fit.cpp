@@ -339,6 +339,17 @@ bool faces_away(std::span<const double> x, const std::uint32_t* t, const Surface
   return dot(cross(sub(b, a), sub(c, a)), face_normal(input.positions, &input.triangles[3 * std::size_t{s.face}])) < 0;
 }
 
+std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std::uint32_t> flipped,
+                               const SurfaceQuery& surface, std::span<const std::uint8_t> crossing) {
+  std::size_t count = 0;
+  for (const std::uint32_t f : flipped) {
+    std::uint32_t closest = kNone;
+    faces_away(remeshed.positions, &remeshed.triangles[3 * std::size_t{f}], surface, &closest);
+    count += closest < crossing.size() && crossing[closest] != 0;
+  }
+  return count;
+}
+
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface) {
   const double diagonal = bounding_box_diagonal(remeshed.positions);
   enum : std::uint8_t { kGood, kDegenerate, kFlipped };

@@ -6,6 +6,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "meshlift/self_intersection.h"
+
 namespace meshlift {
 namespace {
 
@@ -407,6 +409,14 @@ std::string first_problem_for_triangle_codec(const MeshReport& r) {
   return "";
 }
 
+void add_self_intersections(const PolygonMesh& mesh, MeshReport& report) {
+  if (!first_problem_for_triangle_codec(report).empty()) return;
+  std::size_t total = 0;
+  const auto first = self_intersections(to_triangle_mesh(mesh), 1, &total);
+  report.self_intersecting_pairs = total;
+  if (!first.empty()) report.first_self_intersection[0] = first[0][0], report.first_self_intersection[1] = first[0][1];
+}
+
 std::string to_text(const MeshReport& r) {
   std::ostringstream out;
   const auto line = [&](const std::string& name, const std::string& value) {
@@ -441,6 +451,11 @@ std::string to_text(const MeshReport& r) {
   line("duplicate vertices", std::to_string(r.duplicate_vertices));
   line("non-finite vertices", std::to_string(r.non_finite_vertices));
   line("bbox diagonal", format_double(r.bbox_diagonal));
+  if (r.self_intersecting_pairs)
+    line("self-intersections", std::to_string(*r.self_intersecting_pairs) + " pairs of faces cross" +
+                                   (*r.self_intersecting_pairs ? " (first: faces " + std::to_string(r.first_self_intersection[0]) +
+                                                                     " and " + std::to_string(r.first_self_intersection[1]) + ")"
+                                                               : ""));
   const std::string problem = first_problem_for_triangle_codec(r);
   line("triangle codec", problem.empty() ? std::string("ok") : problem);
   const std::size_t listed = std::min<std::size_t>(r.components.size(), 10);
@@ -490,6 +505,11 @@ std::string to_json(const MeshReport& r) {
   out << "  \"duplicate_vertices\": " << r.duplicate_vertices << ",\n";
   out << "  \"non_finite_vertices\": " << r.non_finite_vertices << ",\n";
   out << "  \"bbox_diagonal\": " << (std::isfinite(r.bbox_diagonal) ? format_double(r.bbox_diagonal) : "null") << ",\n";
+  out << "  \"self_intersecting_pairs\": " << (r.self_intersecting_pairs ? std::to_string(*r.self_intersecting_pairs) : "null")
+      << ",\n";
+  out << "  \"first_self_intersection\": ";
+  if (r.first_self_intersection[0] == kNone) out << "null,\n";
+  else out << '[' << r.first_self_intersection[0] << ", " << r.first_self_intersection[1] << "],\n";
   out << "  \"triangle_codec_problem\": " << (problem.empty() ? "null" : '"' + json_escape(problem) + '"') << ",\n";
   const std::size_t listed = std::min<std::size_t>(r.components.size(), 100);
   out << "  \"components_listed\": " << listed << ",\n";

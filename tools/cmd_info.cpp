@@ -91,7 +91,8 @@ int run_info(const InfoOptions& options) {
   }
   const std::optional<PolygonMesh> mesh = load_mesh(options.file);
   if (!mesh) return kBadInput;
-  const MeshReport report = validate_mesh(*mesh);
+  MeshReport report = validate_mesh(*mesh);
+  add_self_intersections(*mesh, report);
   std::cout << (options.json ? to_json(report) : to_text(report));
   return kOk;
 }

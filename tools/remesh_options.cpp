@@ -92,6 +92,13 @@ void print_remesh_summary(const std::string& path, const PolygonMesh& input, con
   std::fprintf(stderr, "%s: peak memory %.0f MiB\n", path.c_str(), peak_rss_mb());
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
                result.degenerate_triangles);
+  if (result.input_crossing_pairs > 0)
+    std::fprintf(stderr, "%s: the input passes through itself: %zu pairs of its faces cross (`meshlift info` names one)%s\n",
+                 path.c_str(), result.input_crossing_pairs,
+                 result.flipped_triangles == 0 ? ""
+                 : ("; " + std::to_string(result.flipped_where_input_crosses) +
+                    " of the flipped triangles are there, where no orientation faces both sheets")
+                       .c_str());
   const SurfaceDistance d = surface_distance(to_triangle_mesh(input), result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
                path.c_str(), d.psnr_db(), d.rms_relative(), d.hausdorff_relative());

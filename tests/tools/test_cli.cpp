@@ -125,6 +125,15 @@ TEST_CASE("info reports topology and exits non-zero on unreadable files", "[cli]
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.output, Catch::Contains("\"euler_characteristic\": 2"));
   CHECK_THAT(r.output, Catch::Contains("\"closed\": true"));
+  CHECK_THAT(r.output, Catch::Contains("\"self_intersecting_pairs\": 0"));
+  // Two tetrahedra, the second moved by (1/4, 1/4, 1/4): its first corner is inside the first.
+  const fs::path crossed = write_file(dir / "crossed.off",
+                                      "OFF\n8 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n.25 .25 .25\n1.25 .25 .25\n.25 1.25 .25\n"
+                                      ".25 .25 1.25\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 4 6 5\n3 4 5 7\n3 4 7 6\n3 5 6 7\n");
+  const auto c = run("info " + crossed.string());
+  REQUIRE(c.exit_code == 0);
+  CHECK_THAT(c.output, Catch::Contains("self-intersections:"));
+  CHECK_THAT(c.output, Catch::Contains("pairs of faces cross (first: faces"));
   CHECK(run("info " + (dir / "missing.off").string()).exit_code == 3);
   fs::remove_all(dir);
 }

@@ -86,6 +86,12 @@ struct RemeshResult {
   /// both 0 in a good remesh; docs/RESULTS.md counts them on the corpus.
   std::size_t flipped_triangles = 0;
   std::size_t degenerate_triangles = 0;
+  /// Pairs of the input's faces that cut through each other (self_intersection.h), and how many
+  /// of the flipped triangles have one of those faces as the closest to their centroid. Where a
+  /// surface passes through itself, the closest face near the crossing may belong to either
+  /// sheet: no orientation of a face there agrees with both, and the flip test cannot be met.
+  std::size_t input_crossing_pairs = 0;
+  std::size_t flipped_where_input_crosses = 0;
   /// Wall-clock seconds per stage, in pipeline order ("decimate" (or "decimate (rest of the one
   /// run alongside)"), "fit base", "guides", "place and compare", "least squares and untangle",
   /// then "choose density" with the automatic density, whose remeshes each list their stages;

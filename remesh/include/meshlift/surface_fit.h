@@ -64,6 +64,12 @@ struct FoldOvers {
 };
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface);
 
+/// How many of the faces `flipped` of `remeshed` have as the surface face closest to their
+/// centroid (find_fold_overs()'s reference) one marked in `crossing` (per surface face: 1 if it
+/// cuts through another face, self_intersection.h).
+std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std::uint32_t> flipped,
+                               const SurfaceQuery& surface, std::span<const std::uint8_t> crossing);
+
 /// The flip test of find_fold_overs() for face t (three vertex indices) of the xyz array x: its
 /// normal makes more than 90° with that of the surface face closest to its centroid. `hint`, if
 /// given, holds a surface face likely near (kNone: none) and receives the closest one: a query

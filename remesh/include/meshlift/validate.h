@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,10 @@ struct MeshReport {
   std::uint64_t non_finite_vertices = 0;  ///< a NaN or infinite coordinate
   std::uint32_t first_non_finite_vertex = kNone;
   double bbox_diagonal = 0.0;             ///< over finite vertices only
+  /// Pairs of faces that cut through each other (self_intersection.h); set only by
+  /// add_self_intersections(), which `meshlift info` calls (unset: not checked).
+  std::optional<std::uint64_t> self_intersecting_pairs;
+  std::uint32_t first_self_intersection[2] = {kNone, kNone};  ///< the lowest such pair
 
   /// No non-manifold edge or vertex.
   bool is_manifold() const { return non_manifold_edges == 0 && non_manifold_vertices == 0; }
@@ -104,6 +109,12 @@ inline constexpr double kZeroAreaFactor = 1e-14;
 MeshReport validate_mesh(const PolygonMesh& mesh);
 /// Same for a triangle mesh (a trailing partial triangle is reported as a structure_error).
 MeshReport validate_mesh(const TriangleMesh& mesh);
+
+/// Fills report.self_intersecting_pairs and first_self_intersection for a triangle mesh whose
+/// report names no problem for the triangle codec (first_problem_for_triangle_codec() empty);
+/// otherwise leaves them unset. Not part of validate_mesh(): a BVH query, needed by inspection
+/// (`meshlift info`) and the remesher's fold report, not by every reader of a mesh.
+void add_self_intersections(const PolygonMesh& mesh, MeshReport& report);
 
 /// "" when the mesh can enter the triangle codec: at least one face, every face a triangle with
 /// valid distinct indices, finite coordinates, manifold, orientable and consistently oriented
