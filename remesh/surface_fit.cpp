@@ -159,8 +159,36 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
       return dot(face_normal(x, t), reference) <= 0;
     };
 
+    // The midpoint of a new vertex's edge, and whether p is a stray there: farther from it than
+    // stray_distance lengths of the edge. A stray has landed on another part of the input: from
+    // a start off the surface (the guide's point at a thin part), or, far more often, from an
+    // untangling step that carried it into a thin part, whence the projection finds the
+    // opposite wall (turbine at ~16x, L = 3: moves of up to 21 edge lengths; the placement was
+    // 82 dB from the input before its untangling rounds and 49 after, faces spanning the inside
+    // of the disk). Measured at 1 and 2 edge lengths (docs/RESULTS.md): 1 also stops moves that
+    // thin parts need at ~4x (turbine 80.9 -> 73.5 dB); 2 gives turbine 81.9 at ~4x, 86.0 at ~16x
+    // (was 56.5, 58 folds; now 10), the other meshes within 0.1 dB.
+    // (The untangling below moves the new vertices of the levels before too: any odd vertex.)
+    auto edge_of = [&](std::uint32_t v) {
+      int k = 1;
+      while (v >= h.vertex_count(k)) ++k;
+      return &h.topology(k - 1).edge_vertices[2 * std::size_t{v - h.vertex_count(k - 1)}];
+    };
+    auto midpoint = [&](std::uint32_t v) {
+      const std::uint32_t* e = edge_of(v);
+      const Vec a = at(x, e[0]), b = at(x, e[1]);
+      return Vec{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+    };
+    auto stray = [&](std::uint32_t v, const Vec& p) {
+      if (!(options.stray_distance > 0) || v < h.vertex_count(0)) return false;
+      const std::uint32_t* e = edge_of(v);
+      const Vec d = sub(p, midpoint(v)), ab = sub(at(x, e[1]), at(x, e[0]));
+      return dot(d, d) > options.stray_distance * options.stray_distance * dot(ab, ab);
+    };
+
     // One Jacobi round over `vertices`: optionally a tangential umbrella move of `step`, then
-    // projection on the input (boundary vertices: on its boundary curves).
+    // projection on the input (boundary vertices: on its boundary curves). A stray is placed
+    // again from its edge's midpoint, or, a stray from there too, left at the midpoint.
     auto round = [&](const std::vector<std::uint32_t>& vertices, bool smooth, double step) {
       next.assign(3 * vertices.size(), 0.0);
       next_face.assign(vertices.size(), kNone);
@@ -190,14 +218,24 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
             }
             for (int c = 0; c < 3; ++c) p[c] += step * move[c];
           }
-          SurfacePoint s;
-          if (on_boundary && !boundary.segments.empty()) {
-            p = boundary.closest(p);
-            s = surface.closest(p);
-          } else {
-            s = n_len > 0 ? shoot(surface, p, n, 2 * reach) : SurfacePoint{};
-            if (s.face == kNone) s = surface.closest(p);  // no facing hit near: the closest point
-            p = s.point;
+          auto place = [&](Vec& q) {  // onto the input; returns where
+            SurfacePoint s;
+            if (on_boundary && !boundary.segments.empty()) {
+              q = boundary.closest(q);
+              s = surface.closest(q);
+            } else {
+              s = n_len > 0 ? shoot(surface, q, n, 2 * reach) : SurfacePoint{};
+              if (s.face == kNone) s = surface.closest(q);  // no facing hit near: the closest point
+              q = s.point;
+            }
+            return s;
+          };
+          SurfacePoint s = place(p);
+          if (stray(v, p)) {
+            const Vec mid = midpoint(v);
+            p = mid;
+            s = place(p);
+            if (stray(v, p)) p = mid, s = surface.closest(mid);
           }
           next[3 * i] = p[0], next[3 * i + 1] = p[1], next[3 * i + 2] = p[2];
           next_face[i] = s.face;
@@ -249,7 +287,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
           const SurfacePoint s = shoot(surface, {q[0] + height * n[0], q[1] + height * n[1], q[2] + height * n[2]}, n, 2 * reach);
           if (s.face == kNone) continue;
           const Vec moved = sub(s.point, p);
-          if (dot(moved, moved) > reach * reach) continue;
+          if (dot(moved, moved) > reach * reach || stray(v, s.point)) continue;
           next[3 * i] = s.point[0], next[3 * i + 1] = s.point[1], next[3 * i + 2] = s.point[2];
           next_face[i] = s.face;
         }

@@ -91,10 +91,11 @@ TEST_CASE("Remeshing development meshes leaves no folded face and stays close", 
   // of docs/RESULTS.md less half a decibel; cow and mannequin-devil still fold where they pass
   // through themselves (the next test holds cow to that). Camel and turbine fold nowhere since the refinement
   // is placed from two guides (were 8 and 8 folds, 76.0 and 53.7 dB); turbine is 80.9 dB since
-  // level 1 is placed on normal lines (was 60.8), fandisk 77.7 (was 78.7: the price of details
+  // level 1 is placed on normal lines (was 60.8) and 81.9 since strays are placed again
+  // (surface_fit.h), fandisk 77.7 (was 78.7: the price of details
   // with no tangential part, which code in fewer bits).
   const std::pair<const char*, double> meshes[] = {{"fandisk", 77.2}, {"homer", 79.0},     {"elephant", 69.4}, {"knot1", 75.4},
-                                                   {"lion-head", 81.5}, {"camel", 83.5}, {"turbine", 80.0}};
+                                                   {"lion-head", 81.5}, {"camel", 83.5}, {"turbine", 81.4}};
   for (const auto& [name, floor_db] : meshes) {
     DYNAMIC_SECTION(name) {
       const TriangleMesh input = to_triangle_mesh(read_mesh(test::corpus_mesh_path(name)));

@@ -36,6 +36,9 @@ struct SurfaceFitOptions {
   /// tangential part as placed. Measured (docs/RESULTS.md): level 1 is where the tangential details were
   /// (the guide's points are far off those lines), the finer levels gain nothing; >= 0.
   int normal_line_levels = 1;
+  /// A new vertex placed farther than this many lengths of its edge from the edge's midpoint is
+  /// placed again from the midpoint, or left there (surface_fit.cpp: strays); 0 turns it off.
+  double stray_distance = 2.0;
   /// Threads for the projections (results do not depend on it); 0 = hardware concurrency.
   unsigned threads = 0;
   std::function<void(double)> progress;
