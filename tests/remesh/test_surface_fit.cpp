@@ -40,6 +40,30 @@ std::pair<std::size_t, std::size_t> on_normal_lines(const SemiRegularMesh& mesh)
   return {on_line, normal.size()};
 }
 
+/// A base decimated from `input` to `base_vertices`, refined `levels` times, and placed on
+/// `input` twice by fit_to_surface(): with `options` and with `control_options`, from the guide
+/// the remesher starts level 1 from (here the Loop subdivision of the base rather than its limit
+/// surface: as good a start for these tests; its points are off the normal lines).
+struct TwoPlacements {
+  SemiRegularMesh placed, control;
+};
+TwoPlacements place_twice(const TriangleMesh& input, const SurfaceQuery& surface, std::size_t base_vertices, int levels,
+                          const SurfaceFitOptions& options, const SurfaceFitOptions& control_options) {
+  DecimateOptions decimate_options;
+  decimate_options.target_vertices = base_vertices;
+  const TriangleMesh base = decimate(input, decimate_options).base;
+  const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles),
+                               levels);
+  std::vector<double> guide(3 * std::size_t{h.vertex_count(levels)}, 0.0);
+  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
+  WaveletTransform(h, {Scheme::loop}).synthesize(guide);
+  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
+  TwoPlacements out{{h, {}, {}}, {h, {}, {}}};
+  fit_to_surface(out.placed, guide, surface, options);
+  fit_to_surface(out.control, guide, surface, control_options);
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("The codec's frame normal of an edge is the normalized sum of its ends' area-weighted normals",
@@ -97,22 +121,9 @@ TEST_CASE("The normal-line placement puts level-1 vertices on their frame normal
           "[remesh][surface_fit]") {
   const TriangleMesh input = test::bumpy_sphere();
   const SurfaceQuery surface(input);
-  DecimateOptions decimate_options;
-  decimate_options.target_vertices = 80;
-  const TriangleMesh base = decimate(input, decimate_options).base;
-  const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles), 2);
-  // The guide: Loop subdivision of the base, as the remesher starts level 1 from (its limit
-  // surface; the refinement is as good a start for this test). Its points are off the normal lines.
-  std::vector<double> guide(3 * std::size_t{h.vertex_count(2)}, 0.0);
-  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
-  WaveletTransform(h, {Scheme::loop}).synthesize(guide);
-  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
-
   SurfaceFitOptions with_lines, without;
   without.normal_line_levels = 0;
-  SemiRegularMesh placed{h, {}, {}}, control{h, {}, {}};
-  fit_to_surface(placed, guide, surface, with_lines);
-  fit_to_surface(control, guide, surface, without);
+  const auto [placed, control] = place_twice(input, surface, 80, 2, with_lines, without);
 
   const auto [on_line, total] = on_normal_lines(placed);
   const auto [control_on_line, control_total] = on_normal_lines(control);
@@ -144,20 +155,9 @@ TEST_CASE("Strays: a new vertex that lands on another part of a thin input is pl
   // lengths away, and the levels' faces spanned the inside of the disk.
   const TriangleMesh input = to_triangle_mesh(read_mesh(test::corpus_mesh_path("turbine")));
   const SurfaceQuery surface(input);
-  DecimateOptions decimate_options;
-  decimate_options.target_vertices = 2303;  // ~16x at L = 3, as remesh() sizes it
-  const TriangleMesh base = decimate(input, decimate_options).base;
-  const SemiRegularHierarchy h(TriangleTopology::build(static_cast<std::uint32_t>(base.vertex_count()), base.triangles), 3);
-  std::vector<double> guide(3 * std::size_t{h.vertex_count(3)}, 0.0);
-  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
-  WaveletTransform(h, {Scheme::loop}).synthesize(guide);
-  std::copy(base.positions.begin(), base.positions.end(), guide.begin());
-
   SurfaceFitOptions with_strays, without;
   without.stray_distance = 0;
-  SemiRegularMesh placed{h, {}, {}}, control{h, {}, {}};
-  fit_to_surface(placed, guide, surface, with_strays);
-  fit_to_surface(control, guide, surface, without);
+  const auto [placed, control] = place_twice(input, surface, 2303, 3, with_strays, without);  // ~16x, as remesh() sizes it
   MetricOptions metric;
   metric.samples = 100'000;
   const double psnr = surface_distance(input, placed.finest(), metric).psnr_db();
