@@ -49,9 +49,6 @@ Forest::Forest(const SemiRegularHierarchy& h) {
     for (std::uint32_t p = 0; p < coarse_edges; ++p)
       if (slots[4 * p + 2] == kNoChild) throw std::logic_error("zerotree::Forest: an odd vertex without 3 or 4 children");
   }
-  assign_large(parents, std::size_t{vertices - roots}, kNoChild);
-  for (std::uint32_t v = 0; v < parents_end; ++v)
-    for (const std::uint32_t child : children(v)) parents[child - roots] = v;
 }
 
 SignificantList::SignificantList(std::size_t capacity)
@@ -94,12 +91,15 @@ struct Models {
   BitModel sign[kLevelContexts][kMaxComponents][3];
 };
 
-// What the contexts read of a coefficient coded so far, one byte per vertex and component.
+// What the contexts read of a coefficient coded so far (2 bits per vertex and component).
 constexpr std::uint8_t kSignificant = 1;
 constexpr std::uint8_t kSignificantNegative = 2;
 // A type-B LIS entry made by a type-A entry none of whose children was significant: L(v) holds
 // the significant descendant, so its decision at the same plane is not coded (FORMAT.md §5).
 constexpr std::uint8_t kImpliedTag = 0x40;
+// LIP and child tags: the level in bits 0-3, the parent's state in bits 4-5 (the sign context).
+constexpr std::uint8_t kTagLevelMask = 0x0f;
+constexpr int kParentStateShift = 4;
 
 /// An array of fixed capacity, left uninitialized: its pages become resident only as entries are
 /// written, so a capacity at the worst-case bound costs only the address space.
@@ -115,7 +115,8 @@ std::unique_ptr<T[]> reserve(std::size_t capacity) {
 struct ComponentLists {
   // LIP, coefficients tested one by one. A coefficient enters it at most once: capacity V.
   std::unique_ptr<std::uint32_t[]> lip_vertex;
-  std::unique_ptr<std::uint8_t[]> lip_tag;  // level | (encoder only) negative << 7
+  // level | parent's state when the entry was made << kParentStateShift | (encoder only) negative << 7
+  std::unique_ptr<std::uint8_t[]> lip_tag;
   std::unique_ptr<std::uint32_t[]> lip_magnitude;  // encoder only
   std::size_t lip_size = 0;
   // LIS: vertex, level << 1 | (1 for type B: grandchildren) | kImpliedTag. Only a vertex with
@@ -192,11 +193,12 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
   // Every child of a vertex of level j is of level j + 1 and has children unless that is the
   // finest level (Forest): no need to look at the children themselves.
   const int finest = f.levels;
-  // state[v K + c]: 0, or kSignificant / kSignificantNegative once the coefficient is significant.
-  const auto K = static_cast<std::size_t>(components);
-  const std::unique_ptr<std::uint8_t[]> state_storage = std::make_unique<std::uint8_t[]>(std::size_t{f.vertices} * K);
-  std::uint8_t* const state = state_storage.get();
-  const std::uint32_t* const parents = f.parents.data();
+  // The state of each coefficient, 2 bits: 0, or kSignificant / kSignificantNegative once it is
+  // significant; per component, 4 vertices a byte (a quarter of a byte per vertex keeps the
+  // array of a 2.6 M-vertex mesh in a core's L2 cache, where its scattered writes are cheap).
+  const std::size_t state_bytes = (std::size_t{f.vertices} + 3) / 4;
+  const std::unique_ptr<std::uint8_t[]> state_storage =
+      std::make_unique<std::uint8_t[]>(state_bytes * static_cast<std::size_t>(components));
   for (int c = 0; c < components; ++c) {
     ComponentLists& l = lists[static_cast<std::size_t>(c)];
     for (std::uint32_t v = 0; v < f.roots; ++v) {
@@ -236,15 +238,20 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         l.lsp.size = lsp_size;
         return false;
       };
-      std::uint8_t* const component_state = state + c;  // of vertex v: component_state[v * K]
-      // A coefficient found significant: its sign, then it joins the LSP. `tag` is its level,
-      // and for the encoder also its sign (kNegativeTag); `parent_state` is its parent's state.
-      auto newly_significant = [&](std::uint32_t v, std::uint8_t tag, std::uint32_t magnitude, std::uint8_t parent_state) {
-        const int negative = io.bit(models.sign[tag & kLevelMask][c][parent_state], kEncoder && (tag & kNegativeTag) != 0);
+      std::uint8_t* const component_state = state_storage.get() + state_bytes * static_cast<std::size_t>(c);
+      auto state_of = [component_state](std::uint32_t v) -> std::uint8_t {
+        return (component_state[v >> 2] >> (2 * (v & 3))) & 3;
+      };
+      // A coefficient found significant: its sign, then it joins the LSP. `tag` is its level and
+      // its parent's state, and for the encoder also its sign (kNegativeTag).
+      auto newly_significant = [&](std::uint32_t v, std::uint8_t tag, std::uint32_t magnitude) {
+        const int level = tag & kTagLevelMask;
+        const int negative =
+            io.bit(models.sign[level][c][(tag >> kParentStateShift) & 3], kEncoder && (tag & kNegativeTag) != 0);
         if (negative < 0) return false;
-        component_state[std::size_t{v} * K] = negative ? kSignificantNegative : kSignificant;
+        component_state[v >> 2] |= static_cast<std::uint8_t>((negative ? kSignificantNegative : kSignificant) << (2 * (v & 3)));
         lsp_vertex[lsp_size] = v;
-        lsp_tag[lsp_size] = static_cast<std::uint8_t>((tag & kLevelMask) | (negative ? kNegativeTag : 0));
+        lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
         lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
         ++lsp_size;
         return true;
@@ -256,11 +263,10 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         const std::uint32_t v = lip_vertex[i];
         const std::uint8_t tag = lip_tag[i];
         const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
-        const int s = io.bit(models.lip[tag & kLevelMask][c], kEncoder && (magnitude >> n) != 0);
+        const int s = io.bit(models.lip[tag & kTagLevelMask][c], kEncoder && (magnitude >> n) != 0);
         if (s < 0) return stop();
         if (s) {
-          const std::uint8_t parent_state = v < roots ? 0 : component_state[std::size_t{parents[v - roots]} * K];
-          if (!newly_significant(v, tag, magnitude, parent_state)) return stop();
+          if (!newly_significant(v, tag, magnitude)) return stop();
         } else {
           lip_vertex[keep] = v;
           lip_tag[keep] = tag;
@@ -277,7 +283,9 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         // ask for them kPrefetchDistance entries ahead (a no-op for the few roots). The encoder
         // knows which sets will be significant, and also reads their vertex's and children's
         // coefficient records: it asks for those, the children's half as far ahead (their
-        // slots are in cache by then).
+        // slots are in cache by then). Every entry reads its vertex's state (the context).
+        if (i + kPrefetchDistance < lis_size)
+          __builtin_prefetch(component_state + (lis_vertex[i + kPrefetchDistance] >> 2));
         if (i + kPrefetchDistance < lis_size && (!kEncoder || lis_width[i + kPrefetchDistance] > n)) {
           const std::uint32_t ahead = lis_vertex[i + kPrefetchDistance];
           if (ahead >= roots) __builtin_prefetch(odd_children + 4 * std::size_t{ahead - roots});
@@ -297,7 +305,7 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         const std::uint8_t tag = lis_tag[i] & ~kImpliedTag;
         const int level = tag >> 1;
         const bool type_b = tag & 1;
-        const std::uint8_t own_state = component_state[std::size_t{v} * K];
+        const std::uint8_t own_state = state_of(v);
         const int s = (lis_tag[i] & kImpliedTag) != 0
                           ? 1
                           : io.bit((type_b ? models.set_grandchildren : models.set_descendants)[level][c][own_state != 0],
@@ -320,15 +328,15 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
           for (std::uint32_t k = 0; k < count; ++k) {
             const std::uint32_t child = first[k];
             const std::uint32_t magnitude = kEncoder ? io.magnitude(child, c) : 0;
-            const auto child_tag =
-                static_cast<std::uint8_t>((level + 1) | (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
+            const auto child_tag = static_cast<std::uint8_t>((level + 1) | own_state << kParentStateShift |
+                                                             (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
             const int cs = children_only && found == 0 && k + 1 == count
                                ? 1
                                : io.bit(models.child[level + 1][c][std::min(found, 3)][std::min<std::uint32_t>(k, 3)],
                                         kEncoder && (magnitude >> n) != 0);
             if (cs < 0) return stop();
             if (cs) {
-              if (!newly_significant(child, child_tag, magnitude, own_state)) return stop();
+              if (!newly_significant(child, child_tag, magnitude)) return stop();
               ++found;
             } else {
               lip_vertex[lip_size] = child;

@@ -41,8 +41,6 @@ struct Forest {
   /// the last kNoChild for the 3 of a boundary edge's vertex. Fixed slots: one memory access
   /// finds a vertex's children.
   std::vector<std::uint32_t> odd_children;
-  /// The parent of every vertex but the roots, at v - roots (the context of its significance).
-  std::vector<std::uint32_t> parents;
 
   /// \throw std::logic_error if `hierarchy` breaks the properties above.
   explicit Forest(const SemiRegularHierarchy& hierarchy);
