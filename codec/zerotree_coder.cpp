@@ -194,9 +194,12 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
   // finest level (Forest): no need to look at the children themselves.
   const int finest = f.levels;
   // The state of each coefficient, 2 bits: 0, or kSignificant / kSignificantNegative once it is
-  // significant; per component, 4 vertices a byte (a quarter of a byte per vertex keeps the
-  // array of a 2.6 M-vertex mesh in a core's L2 cache, where its scattered writes are cheap).
-  const std::size_t state_bytes = (std::size_t{f.vertices} + 3) / 4;
+  // significant. Only read for vertices with children (LIS entries), so kept for the levels
+  // below the finest only (a quarter of the vertices); per component, 4 vertices a byte: the
+  // array of a 2.6 M-vertex mesh (160 KiB a component) stays in a core's L2 cache, where its
+  // scattered writes are cheap.
+  const std::uint32_t stateful = f.level_starts[static_cast<std::size_t>(finest)];
+  const std::size_t state_bytes = (std::size_t{stateful} + 3) / 4;
   const std::unique_ptr<std::uint8_t[]> state_storage =
       std::make_unique<std::uint8_t[]>(state_bytes * static_cast<std::size_t>(components));
   for (int c = 0; c < components; ++c) {
@@ -249,7 +252,8 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         const int negative =
             io.bit(models.sign[level][c][(tag >> kParentStateShift) & 3], kEncoder && (tag & kNegativeTag) != 0);
         if (negative < 0) return false;
-        component_state[v >> 2] |= static_cast<std::uint8_t>((negative ? kSignificantNegative : kSignificant) << (2 * (v & 3)));
+        if (v < stateful)
+          component_state[v >> 2] |= static_cast<std::uint8_t>((negative ? kSignificantNegative : kSignificant) << (2 * (v & 3)));
         lsp_vertex[lsp_size] = v;
         lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
         lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
