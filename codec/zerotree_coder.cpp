@@ -89,6 +89,17 @@ struct Models {
   BitModel refine[kLevelContexts][kMaxComponents];
   // By the parent's coefficient in this component: not significant (or a root), positive, negative.
   BitModel sign[kLevelContexts][kMaxComponents][3];
+
+  // The LIP's significance and the signs drift fastest along the lists (across the surface):
+  // their models settle at shift 4 (count_max 7), the others at shift 5 (FORMAT.md §5).
+  static constexpr std::uint8_t kFastCountMax = 7;
+  Models() {
+    for (auto& level : lip)
+      for (BitModel& m : level) m.count_max = kFastCountMax;
+    for (auto& level : sign)
+      for (auto& component : level)
+        for (BitModel& m : component) m.count_max = kFastCountMax;
+  }
 };
 
 // What the contexts read of a coefficient coded so far (2 bits per vertex and component).

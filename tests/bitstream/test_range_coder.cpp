@@ -292,6 +292,12 @@ TEST_CASE("range coder: probabilities stay in bounds and adapt on the documented
   CHECK(zeros.p == range_coder::kProbMax - 31);  // (kProbMax - p) >> 5 == 0 from here on
   CHECK(ones.p == range_coder::kProbMin + 31);
   CHECK(zeros.count == range_coder::kCountMax);
+  // A model with a smaller count_max settles at a faster rate (shift 4 for 7).
+  BitModel fast;
+  fast.count_max = 7;
+  for (int i = 0; i < 10000; ++i) fast.update(0);
+  CHECK(fast.count == 7);
+  CHECK(fast.p == range_coder::kProbMax - 15);  // (kProbMax - p) >> 4 == 0 from here on
   BitModel first;
   first.update(0);
   CHECK(first.p == range_coder::kHalf + ((range_coder::kProbMax - range_coder::kHalf) >> 1));

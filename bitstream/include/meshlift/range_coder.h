@@ -52,7 +52,10 @@ inline constexpr std::array<std::uint8_t, kCountMax + 1> kShiftForCount = [] {
 /// start from equal models (default-constructed) and feed them the same bits in the same order.
 struct BitModel {
   std::uint16_t p = range_coder::kHalf;  ///< P(bit == 0) * 2^15, always in [kProbMin, kProbMax]
-  std::uint8_t count = 0;                ///< updates so far, saturating at kCountMax
+  std::uint8_t count = 0;                ///< updates so far, saturating at count_max
+  /// Where count saturates, so the shift the model settles at: kCountMax (shift 5), or less
+  /// for a model whose statistics drift faster (FORMAT.md §7.3 says which). <= kCountMax.
+  std::uint8_t count_max = range_coder::kCountMax;
 
   /// The adaptation rule (FORMAT.md §7.3), shared by encoder and decoder so they cannot drift:
   /// bit 0: p += (kProbMax - p) >> shift;  bit 1: p -= (p - kProbMin) >> shift.
@@ -60,7 +63,7 @@ struct BitModel {
   /// equiprobable, and a mispredicted branch per bit would cost more than the arithmetic.
   void update(int bit) {
     const int shift = range_coder::kShiftForCount[count];
-    count = static_cast<std::uint8_t>(count + (count < range_coder::kCountMax));
+    count = static_cast<std::uint8_t>(count + (count < count_max));
     const std::uint32_t one = 0u - static_cast<std::uint32_t>(bit);  // all ones if bit == 1
     const std::uint32_t up = (range_coder::kProbMax - p) >> shift, down = (p - range_coder::kProbMin) >> shift;
     p = static_cast<std::uint16_t>(p + (up & ~one) - (down & one));
