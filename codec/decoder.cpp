@@ -44,7 +44,7 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
     return failure(container_status, "the stream is format version " + std::to_string(out.container.version()) +
                                          "; this build reads only version " + std::to_string(container::kFormatVersion) +
                                          (out.container.version() == 1
-                                              ? " (version 1 coded its coefficients with other contexts: re-encode it "
+                                              ? " (version 1 modelled its coefficients differently: re-encode it "
                                                 "from the source mesh with this build)"
                                               : " (upgrade meshlift)") +
                                          " (at byte 4)");
