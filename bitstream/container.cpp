@@ -108,7 +108,7 @@ Status ContainerReader::parse(std::span<const std::uint8_t> file, const Containe
 ContainerWriter::ContainerWriter() {
   for (std::uint8_t byte : container::kMagic) writer_.u8(byte);
   writer_.u8(container::kFormatVersion);
-  writer_.u8(0);   // flags: none defined in version 1
+  writer_.u8(0);   // flags: none defined
   writer_.u16(0);  // reserved
 }
 

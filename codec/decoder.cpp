@@ -40,6 +40,14 @@ struct ParsedStream {
 /// Parses container and header; on success fills `out`, else returns the failure.
 DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limits, ParsedStream& out) {
   const Status container_status = out.container.parse(bytes);
+  if (container_status == Status::unsupported_version)
+    return failure(container_status, "the stream is format version " + std::to_string(out.container.version()) +
+                                         "; this build reads only version " + std::to_string(container::kFormatVersion) +
+                                         (out.container.version() == 1
+                                              ? " (version 1 modelled its coefficients differently: re-encode it "
+                                                "from the source mesh with this build)"
+                                              : " (upgrade meshlift)") +
+                                         " (at byte 4)");
   if (container_status != Status::ok) {
     const ContainerError& e = out.container.error();
     return failure(container_status, std::string(describe(container_status)) + " (at byte " + std::to_string(e.offset) +

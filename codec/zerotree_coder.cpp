@@ -77,13 +77,40 @@ namespace {
 
 constexpr int kLevelContexts = kMaxLevels + 1;
 
+// FORMAT.md §5 (version 2). The level is that of the vertex tested (for the sets: whose set it is).
 struct Models {
   BitModel lip[kLevelContexts][kMaxComponents];
-  BitModel child[kLevelContexts][kMaxComponents][4];  // by how many siblings were significant before
-  BitModel set_descendants[kLevelContexts][kMaxComponents];
-  BitModel set_grandchildren[kLevelContexts][kMaxComponents];
+  // By how many siblings were significant before (capped at 3), and the child's position among
+  // its parent's children (capped at 3: halves first, then the inner edges).
+  BitModel child[kLevelContexts][kMaxComponents][4][4];
+  // By whether the set's vertex is significant itself in this component.
+  BitModel set_descendants[kLevelContexts][kMaxComponents][2];
+  BitModel set_grandchildren[kLevelContexts][kMaxComponents][2];
   BitModel refine[kLevelContexts][kMaxComponents];
+  // By the parent's coefficient in this component: not significant (or a root), positive, negative.
+  BitModel sign[kLevelContexts][kMaxComponents][3];
+
+  // The LIP's significance and the signs drift fastest along the lists (across the surface):
+  // their models settle at shift 4 (count_max 7), the others at shift 5 (FORMAT.md §5).
+  static constexpr std::uint8_t kFastCountMax = 7;
+  Models() {
+    for (auto& level : lip)
+      for (BitModel& m : level) m.count_max = kFastCountMax;
+    for (auto& level : sign)
+      for (auto& component : level)
+        for (BitModel& m : component) m.count_max = kFastCountMax;
+  }
 };
+
+// What the contexts read of a coefficient coded so far (2 bits per vertex and component).
+constexpr std::uint8_t kSignificant = 1;
+constexpr std::uint8_t kSignificantNegative = 2;
+// A type-B LIS entry made by a type-A entry none of whose children was significant: L(v) holds
+// the significant descendant, so its decision at the same plane is not coded (FORMAT.md §5).
+constexpr std::uint8_t kImpliedTag = 0x40;
+// LIP and child tags: the level in bits 0-3, the parent's state in bits 4-5 (the sign context).
+constexpr std::uint8_t kTagLevelMask = 0x0f;
+constexpr int kParentStateShift = 4;
 
 /// An array of fixed capacity, left uninitialized: its pages become resident only as entries are
 /// written, so a capacity at the worst-case bound costs only the address space.
@@ -99,11 +126,12 @@ std::unique_ptr<T[]> reserve(std::size_t capacity) {
 struct ComponentLists {
   // LIP, coefficients tested one by one. A coefficient enters it at most once: capacity V.
   std::unique_ptr<std::uint32_t[]> lip_vertex;
-  std::unique_ptr<std::uint8_t[]> lip_tag;  // level | (encoder only) negative << 7
+  // level | parent's state when the entry was made << kParentStateShift | (encoder only) negative << 7
+  std::unique_ptr<std::uint8_t[]> lip_tag;
   std::unique_ptr<std::uint32_t[]> lip_magnitude;  // encoder only
   std::size_t lip_size = 0;
-  // LIS: vertex, level << 1 | (1 for type B: grandchildren). Only a vertex with children has an
-  // entry, first of type A, then perhaps one of type B, one at a time; within a pass the removed
+  // LIS: vertex, level << 1 | (1 for type B: grandchildren) | kImpliedTag. Only a vertex with
+  // children has an entry, first of type A, then perhaps one of type B, one at a time; within a pass the removed
   // entries are compacted away behind the reading position, so the array never holds more than
   // the live entries plus those appended in the pass: capacity 2 * (vertices with children).
   std::unique_ptr<std::uint32_t[]> lis_vertex;
@@ -135,12 +163,15 @@ constexpr std::size_t kPrefetchDistance = 16;
 // One SPIHT run, shared by encoder and decoder. Io supplies the decisions: the encoder computes
 // and codes them, the decoder decodes them and returns -1 once the stream is exhausted, where
 // the run stops (all decisions before were exactly the encoder's). Only the encoder evaluates
-// the values handed to io.bit and io.sign (`Io::kEncoder && ...`).
+// the values handed to io.bit (`Io::kEncoder && ...`).
 //   Sorting pass at plane n: each LIP coefficient: significant? (then sign, move to LSP).
 //   Each LIS entry of type A: any descendant significant? If so, each child: significant?
 //   (sign, LSP) or to the LIP; the entry becomes type B if grandchildren exist. Type B: any
 //   grandchild significant? If so, every child with children joins the LIS as type A.
 //   Refinement pass: bit n of every coefficient that was significant before this plane.
+//   Two decisions SPIHT implies are not coded (FORMAT.md §5, version 2): the last child of a
+//   significant D(v) that is only children, when no sibling was significant; and L(v) at the
+//   plane where D(v) was significant and no child was.
 // Returns false where the decoder's input ran out; `lists` then hold what was decoded.
 template <class Io>
 bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<ComponentLists>& lists) {
@@ -173,6 +204,15 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
   // Every child of a vertex of level j is of level j + 1 and has children unless that is the
   // finest level (Forest): no need to look at the children themselves.
   const int finest = f.levels;
+  // The state of each coefficient, 2 bits: 0, or kSignificant / kSignificantNegative once it is
+  // significant. Only read for vertices with children (LIS entries), so kept for the levels
+  // below the finest only (a quarter of the vertices); per component, 4 vertices a byte: the
+  // array of a 2.6 M-vertex mesh (160 KiB a component) stays in a core's L2 cache, where its
+  // scattered writes are cheap.
+  const std::uint32_t stateful = f.level_starts[static_cast<std::size_t>(finest)];
+  const std::size_t state_bytes = (std::size_t{stateful} + 3) / 4;
+  const std::unique_ptr<std::uint8_t[]> state_storage =
+      std::make_unique<std::uint8_t[]>(state_bytes * static_cast<std::size_t>(components));
   for (int c = 0; c < components; ++c) {
     ComponentLists& l = lists[static_cast<std::size_t>(c)];
     for (std::uint32_t v = 0; v < f.roots; ++v) {
@@ -212,13 +252,21 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         l.lsp.size = lsp_size;
         return false;
       };
-      // A coefficient found significant: its sign, then it joins the LSP. `tag` is its level,
-      // and for the encoder also its sign (kNegativeTag).
+      std::uint8_t* const component_state = state_storage.get() + state_bytes * static_cast<std::size_t>(c);
+      auto state_of = [component_state](std::uint32_t v) -> std::uint8_t {
+        return (component_state[v >> 2] >> (2 * (v & 3))) & 3;
+      };
+      // A coefficient found significant: its sign, then it joins the LSP. `tag` is its level and
+      // its parent's state, and for the encoder also its sign (kNegativeTag).
       auto newly_significant = [&](std::uint32_t v, std::uint8_t tag, std::uint32_t magnitude) {
-        const int negative = io.sign(kEncoder && (tag & kNegativeTag) != 0);
+        const int level = tag & kTagLevelMask;
+        const int negative =
+            io.bit(models.sign[level][c][(tag >> kParentStateShift) & 3], kEncoder && (tag & kNegativeTag) != 0);
         if (negative < 0) return false;
+        if (v < stateful)
+          component_state[v >> 2] |= static_cast<std::uint8_t>((negative ? kSignificantNegative : kSignificant) << (2 * (v & 3)));
         lsp_vertex[lsp_size] = v;
-        lsp_tag[lsp_size] = static_cast<std::uint8_t>((tag & kLevelMask) | (negative ? kNegativeTag : 0));
+        lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
         lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
         ++lsp_size;
         return true;
@@ -230,7 +278,7 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         const std::uint32_t v = lip_vertex[i];
         const std::uint8_t tag = lip_tag[i];
         const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
-        const int s = io.bit(models.lip[tag & kLevelMask][c], kEncoder && (magnitude >> n) != 0);
+        const int s = io.bit(models.lip[tag & kTagLevelMask][c], kEncoder && (magnitude >> n) != 0);
         if (s < 0) return stop();
         if (s) {
           if (!newly_significant(v, tag, magnitude)) return stop();
@@ -250,7 +298,9 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         // ask for them kPrefetchDistance entries ahead (a no-op for the few roots). The encoder
         // knows which sets will be significant, and also reads their vertex's and children's
         // coefficient records: it asks for those, the children's half as far ahead (their
-        // slots are in cache by then).
+        // slots are in cache by then). Every entry reads its vertex's state (the context).
+        if (i + kPrefetchDistance < lis_size)
+          __builtin_prefetch(component_state + (lis_vertex[i + kPrefetchDistance] >> 2));
         if (i + kPrefetchDistance < lis_size && (!kEncoder || lis_width[i + kPrefetchDistance] > n)) {
           const std::uint32_t ahead = lis_vertex[i + kPrefetchDistance];
           if (ahead >= roots) __builtin_prefetch(odd_children + 4 * std::size_t{ahead - roots});
@@ -267,11 +317,14 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
           }
         }
         const std::uint32_t v = lis_vertex[i];
-        const std::uint8_t tag = lis_tag[i];
+        const std::uint8_t tag = lis_tag[i] & ~kImpliedTag;
         const int level = tag >> 1;
         const bool type_b = tag & 1;
-        const int s = io.bit(type_b ? models.set_grandchildren[level][c] : models.set_descendants[level][c],
-                             kEncoder && lis_width[i] > n);
+        const std::uint8_t own_state = state_of(v);
+        const int s = (lis_tag[i] & kImpliedTag) != 0
+                          ? 1
+                          : io.bit((type_b ? models.set_grandchildren : models.set_descendants)[level][c][own_state != 0],
+                                   kEncoder && lis_width[i] > n);
         if (s < 0) return stop();
         if (!s) {
           lis_vertex[keep] = v;
@@ -283,13 +336,19 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         const std::uint32_t* first = nullptr;
         const std::uint32_t count = children(v, first);
         if (!type_b) {
+          // D(v) is significant: when it is just the children (L(v) is empty), the last one is
+          // significant if none before it was, and is not coded.
+          const bool children_only = level + 2 > finest;
           int found = 0;
           for (std::uint32_t k = 0; k < count; ++k) {
             const std::uint32_t child = first[k];
             const std::uint32_t magnitude = kEncoder ? io.magnitude(child, c) : 0;
-            const auto child_tag =
-                static_cast<std::uint8_t>((level + 1) | (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
-            const int cs = io.bit(models.child[level + 1][c][std::min(found, 3)], kEncoder && (magnitude >> n) != 0);
+            const auto child_tag = static_cast<std::uint8_t>((level + 1) | own_state << kParentStateShift |
+                                                             (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
+            const int cs = children_only && found == 0 && k + 1 == count
+                               ? 1
+                               : io.bit(models.child[level + 1][c][std::min(found, 3)][std::min<std::uint32_t>(k, 3)],
+                                        kEncoder && (magnitude >> n) != 0);
             if (cs < 0) return stop();
             if (cs) {
               if (!newly_significant(child, child_tag, magnitude)) return stop();
@@ -303,7 +362,7 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
           }
           if (level + 2 <= finest) {  // L(v) is not empty
             lis_vertex[lis_size] = v;
-            lis_tag[lis_size] = static_cast<std::uint8_t>(tag | 1);
+            lis_tag[lis_size] = static_cast<std::uint8_t>(tag | 1 | (found == 0 ? kImpliedTag : 0));
             if constexpr (kEncoder) lis_width[lis_size] = io.grandchildren_width(v, c);
             ++lis_size;
           }
@@ -375,10 +434,6 @@ class EncoderIo {
     encoder_->encode(m, value ? 1 : 0);
     return value ? 1 : 0;
   }
-  int sign(bool negative) {
-    encoder_->encode_direct(negative ? 1 : 0, 1);
-    return negative ? 1 : 0;
-  }
   void prefetch(std::uint32_t v, int c) const { __builtin_prefetch(&coefficients_[index(v, c)]); }
   std::uint32_t magnitude(std::uint32_t v, int c) const { return coefficients_[index(v, c)].magnitude; }
   bool negative(std::uint32_t v, int c) const { return coefficients_[index(v, c)].negative; }
@@ -402,7 +457,6 @@ class DecoderIo {
   explicit DecoderIo(const RangeDecoder& decoder) : decoder_(decoder) {}
   void begin_plane(int n) { last_plane_ = n; }
   int bit(BitModel& m, bool) { return decoder_.try_decode(m); }
-  int sign(bool) { return decoder_.try_decode_direct_bit(); }
   std::uint32_t magnitude(std::uint32_t, int) const { return 0; }
   bool negative(std::uint32_t, int) const { return false; }
   std::uint8_t descendants_width(std::uint32_t, int) const { return 0; }

@@ -1,7 +1,8 @@
 // Embedded bit-plane coding of the wavelet coefficients by set partitioning in hierarchical
 // trees (SPIHT, Said & Pearlman 1996) over the semi-regular coefficient tree, as Progressive
 // Geometry Compression (Khodakovsky, Schroeder, Sweldens 2000) does, with every decision coded by
-// the adaptive binary range coder under a context (level, component, sibling significance).
+// the adaptive binary range coder under a context (level, component, and what is known of the
+// vertex, its siblings and its parent: FORMAT.md §5, version 2).
 // A vertex carries K components: its three geometry coefficients (x, y, z, or normal and two
 // tangents in local frames) and then those of any extra channels (FORMAT.md §5).
 // Encoder and decoder run the same traversal (zerotree_coder.cpp), so they cannot drift apart.

@@ -138,8 +138,11 @@ TEST_CASE("range coder: compressed size is close to the entropy", "[range_coder]
     const double ratio = bytes / ideal;
     std::printf("range coder, adaptive model, p(1) = %.2f over %zu bits: %.0f bytes, entropy %.0f bytes, "
                 "overhead %+.2f %%\n", p, count, bytes, ideal, (ratio - 1) * 100);
-    // Steady-state cost of adaptation is ~0.003 bit/symbol, a larger share of a smaller entropy.
-    CHECK(ratio < (p >= 0.05 ? 1.02 : 1.05));
+    // Steady-state cost of adaptation with the ~32-bit window (shift 5, format version 2) is
+    // ~0.012 bit/symbol (version 1's shift 7: ~0.003), a larger share of a smaller entropy:
+    // measured +1.2 % at p = 0.5, +4.4 % at 0.05, +6.6 % at 0.01. The window is that short
+    // because real coefficient statistics drift (FORMAT.md change log).
+    CHECK(ratio < (p >= 0.05 ? 1.05 : 1.08));
   }
   RangeEncoder encoder;
   std::mt19937 rng(7);
@@ -276,30 +279,42 @@ TEST_CASE("range coder: probabilities stay in bounds and adapt on the documented
   CHECK(range_coder::kShiftForCount[1] == 2);
   CHECK(range_coder::kShiftForCount[2] == 2);
   CHECK(range_coder::kShiftForCount[3] == 3);
-  CHECK(range_coder::kShiftForCount[62] == 6);
-  CHECK(range_coder::kShiftForCount[63] == 7);
+  CHECK(range_coder::kShiftForCount[6] == 3);
+  CHECK(range_coder::kShiftForCount[7] == 4);
+  CHECK(range_coder::kShiftForCount[14] == 4);
+  CHECK(range_coder::kShiftForCount[15] == 5);
+  CHECK(range_coder::kCountMax == 15);
   BitModel zeros, ones;
   for (int i = 0; i < 10000; ++i) {
     zeros.update(0);
     ones.update(1);
   }
-  CHECK(zeros.p == range_coder::kProbMax - 127);  // (kProbMax - p) >> 7 == 0 from here on
-  CHECK(ones.p == range_coder::kProbMin + 127);
+  CHECK(zeros.p == range_coder::kProbMax - 31);  // (kProbMax - p) >> 5 == 0 from here on
+  CHECK(ones.p == range_coder::kProbMin + 31);
   CHECK(zeros.count == range_coder::kCountMax);
+  // A model with a smaller count_max settles at a faster rate (shift 4 for 7).
+  BitModel fast;
+  fast.count_max = 7;
+  for (int i = 0; i < 10000; ++i) fast.update(0);
+  CHECK(fast.count == 7);
+  CHECK(fast.p == range_coder::kProbMax - 15);  // (kProbMax - p) >> 4 == 0 from here on
   BitModel first;
   first.update(0);
   CHECK(first.p == range_coder::kHalf + ((range_coder::kProbMax - range_coder::kHalf) >> 1));
 }
 
-TEST_CASE("range coder: golden stream of format version 1", "[range_coder][golden]") {
-  // Frozen bytes: any change here is a format change (FORMAT.md §7, change log).
-  const std::vector<std::uint8_t> golden = {0x00, 0x8C, 0xC0, 0x58, 0xBF, 0xCB, 0x56,
-                                            0xBA, 0x55, 0xA3, 0xB0, 0x7A, 0x67};
+TEST_CASE("range coder: golden stream of format version 2", "[range_coder][golden]") {
+  // Frozen bytes: any change here is a format change (FORMAT.md §7, change log). The last 64
+  // bits take m[1] past 31 updates, where version 1's slower schedule (kCountMax 63) gave
+  // ... A4 D4 68 5E 28 D7 4C 03 C3 EE instead.
+  const std::vector<std::uint8_t> golden = {0x00, 0x8C, 0xC0, 0x58, 0xBF, 0xCB, 0x56, 0xBA, 0x55, 0xA4,
+                                            0xD4, 0x69, 0xF8, 0xF9, 0xCF, 0xA0, 0xAD, 0x2F, 0xD5};
   RangeEncoder encoder;
   BitModel models[2];
   for (int i = 0; i < 40; ++i) encoder.encode(models[i & 1], i % 3 == 0);
   encoder.encode_direct(0xABCDE, 20);
   for (int i = 0; i < 8; ++i) encoder.encode(models[0], 1);
+  for (int i = 0; i < 64; ++i) encoder.encode(models[1], i % 5 == 0);
   CHECK(encoder.finish() == golden);
 
   RangeDecoder decoder(golden);
@@ -307,6 +322,7 @@ TEST_CASE("range coder: golden stream of format version 1", "[range_coder][golde
   for (int i = 0; i < 40; ++i) CHECK(decoder.decode(decoded_models[i & 1]) == (i % 3 == 0));
   CHECK(decoder.decode_direct(20) == 0xABCDEu);
   for (int i = 0; i < 8; ++i) CHECK(decoder.decode(decoded_models[0]) == 1);
+  for (int i = 0; i < 64; ++i) CHECK(decoder.decode(decoded_models[1]) == (i % 5 == 0));
   CHECK_FALSE(decoder.exhausted());
   CHECK(decoder.position() == golden.size());
 }

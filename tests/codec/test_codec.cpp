@@ -335,18 +335,41 @@ std::vector<std::uint8_t> golden_stream(const std::string& name, const std::vect
 
 }  // namespace
 
-TEST_CASE("golden stream: format version 1 is frozen", "[codec][golden]") {
+TEST_CASE("golden stream: format version 2 is frozen", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field, Loop, 12 bits.
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);
   EncodeOptions options;
   options.precision_bits = 12;
-  options.local_frames = false;  // the stream as first frozen (flags 0)
+  options.local_frames = false;  // flags 0
   const auto file = encode(mesh, options);
-  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12.mlz", file);
+  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v2.mlz", file);
   CHECK(file == golden);
+  CHECK(golden[4] == 2);
   const DecodeResult a = decode(golden), b = decode(golden);
   REQUIRE(a.status == Status::ok);
   CHECK(a.mesh.positions == b.mesh.positions);
+  // The same input as the version-1 golden stream below: at full rate both decode within the
+  // quantization bound, so the two versions differ in their coefficient bits only.
+  CHECK(rms_error(a.mesh.positions, mesh.positions) < 1e-3 * bounding_box_diagonal(mesh.positions));
+}
+
+TEST_CASE("golden stream: a format version 1 stream is refused with unsupported_version", "[codec][golden]") {
+  // tests/golden/icosahedron_loop_L2_p12.mlz: the stream above as version 1 wrote it (kept as
+  // an artifact, never regenerated). Version 2 codes the coefficients with other contexts
+  // (FORMAT.md change log): decoding it as version 2 would give a wrong mesh, so it is refused.
+  std::ifstream in(std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/icosahedron_loop_L2_p12.mlz", std::ios::binary);
+  REQUIRE(in.good());
+  const std::vector<std::uint8_t> v1{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  REQUIRE(v1.size() > 8);
+  CHECK(v1[4] == 1);
+  const DecodeResult r = decode(v1);
+  CHECK(r.status == Status::unsupported_version);
+  CHECK(static_cast<int>(r.status) == 3);
+  CHECK(r.message.find("format version 1") != std::string::npos);
+  CHECK(r.message.find("re-encode") != std::string::npos);
+  // Every prefix past the file header is refused the same way (the version is checked first).
+  for (std::size_t n = 8; n <= v1.size(); n += 7)
+    CHECK(decode(std::span<const std::uint8_t>(v1.data(), n)).status == Status::unsupported_version);
 }
 
 TEST_CASE("embedded-stream cost: a prefix is within 0.3 dB of a file encoded directly at that size", "[codec][prefix]") {
@@ -454,9 +477,11 @@ TEST_CASE("extra channels: every prefix decodes them and their error falls with 
     for (std::size_t c = 0; c < 2; ++c) {
       REQUIRE(r.channels[c].values.size() == mesh.channels[c].values.size());
       const double error = channel_rms(r.channels[c].values, mesh.channels[c].values);
-      // 10 %, not the geometry's 5 % (test_prefixes.h): a channel has a few hundred coefficients
-      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more.
-      CHECK(error <= previous[c] * 1.10 + 1e-12);
+      // 15 %, not the geometry's 5 % (test_prefixes.h): a channel has a few hundred coefficients
+      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more, most
+      // in the colour's step (z > 0): +13 % at a 285-byte cut of format version 2's stream, in
+      // the coarse planes, before falling to half of it 111 bytes later.
+      CHECK(error <= previous[c] * 1.15 + 1e-12);
       previous[c] = std::min(previous[c], error);
     }
   }

@@ -3,14 +3,16 @@
 // decodes to a prefix of the encoded symbols. Knows bits only; the exact arithmetic is specified
 // as decoder pseudo-code in bitstream/FORMAT.md §7, and the two classes below mirror it.
 //
-// Choices (frozen by format version 1):
+// Choices (frozen by format version 2; version 1 differed only in kCountMax = 63):
 //  - probabilities are 15-bit (kProbOne = 2^15) and held in [kProbMin, kProbMax] =
 //    [128, 32640], so one byte of normalization always restores range >= 2^24 and the
 //    cheapest bit costs log2(256/255) = 0.0056 bits;
 //  - adaptation is count-based: a model's first updates move fast (shift 1, 2, 2, 3, ...,
-//    about 1/(n+1), like a frequency count) and settle at shift 7 after 63 updates (a window
-//    of ~128 bits). At a stationary p = 0.05 this costs ~1 % above the entropy, against ~4 %
-//    for LZMA's fixed shift 5 (tests/bitstream/test_range_coder.cpp prints the figure);
+//    about 1/(n+1), like a frequency count) and settle at shift 5 after 15 updates (a window
+//    of ~32 bits). At a stationary p = 0.05 this costs ~4 % above the entropy (shift 7 after
+//    63 updates, version 1's: ~1.4 %; tests/bitstream/test_range_coder.cpp prints the figure),
+//    but the coefficient coder's statistics drift along its lists (across the surface): the
+//    faster window codes remeshed meshes in 2-3 % fewer bits at equal error (docs/RESULTS.md);
 //  - both sides normalize *before* each decision, so the decoder reads exactly the bytes the
 //    encoder wrote and can tell whether a decision used a byte that is not there.
 #pragma once
@@ -32,9 +34,9 @@ inline constexpr std::uint32_t kProbMin = 128;
 inline constexpr std::uint32_t kProbMax = kProbOne - kProbMin;
 inline constexpr std::uint16_t kHalf = kProbOne / 2;
 inline constexpr std::uint32_t kTop = std::uint32_t{1} << 24;  ///< normalize when range < kTop
-inline constexpr std::uint8_t kCountMax = 63;                    ///< update count saturates here
+inline constexpr std::uint8_t kCountMax = 15;                    ///< update count saturates here
 inline constexpr int kMaxDirectBits = 32;
-/// Adaptation shift for a model updated `count` times: 1 + floor(log2(count + 1)), in [1, 7].
+/// Adaptation shift for a model updated `count` times: 1 + floor(log2(count + 1)), in [1, 5].
 inline constexpr std::array<std::uint8_t, kCountMax + 1> kShiftForCount = [] {
   std::array<std::uint8_t, kCountMax + 1> shifts{};
   for (int count = 0; count <= kCountMax; ++count) {
@@ -50,7 +52,10 @@ inline constexpr std::array<std::uint8_t, kCountMax + 1> kShiftForCount = [] {
 /// start from equal models (default-constructed) and feed them the same bits in the same order.
 struct BitModel {
   std::uint16_t p = range_coder::kHalf;  ///< P(bit == 0) * 2^15, always in [kProbMin, kProbMax]
-  std::uint8_t count = 0;                ///< updates so far, saturating at kCountMax
+  std::uint8_t count = 0;                ///< updates so far, saturating at count_max
+  /// Where count saturates, so the shift the model settles at: kCountMax (shift 5), or less
+  /// for a model whose statistics drift faster (FORMAT.md §7.3 says which). <= kCountMax.
+  std::uint8_t count_max = range_coder::kCountMax;
 
   /// The adaptation rule (FORMAT.md §7.3), shared by encoder and decoder so they cannot drift:
   /// bit 0: p += (kProbMax - p) >> shift;  bit 1: p -= (p - kProbMin) >> shift.
@@ -58,7 +63,7 @@ struct BitModel {
   /// equiprobable, and a mispredicted branch per bit would cost more than the arithmetic.
   void update(int bit) {
     const int shift = range_coder::kShiftForCount[count];
-    count = static_cast<std::uint8_t>(count + (count < range_coder::kCountMax));
+    count = static_cast<std::uint8_t>(count + (count < count_max));
     const std::uint32_t one = 0u - static_cast<std::uint32_t>(bit);  // all ones if bit == 1
     const std::uint32_t up = (range_coder::kProbMax - p) >> shift, down = (p - range_coder::kProbMin) >> shift;
     p = static_cast<std::uint16_t>(p + (up & ~one) - (down & one));
