@@ -46,7 +46,9 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
                                          (out.container.version() == 1
                                               ? " (version 1 modelled its coefficients differently: re-encode it "
                                                 "from the source mesh with this build)"
-                                              : " (upgrade meshlift)") +
+                                          : out.container.version() > container::kFormatVersion
+                                              ? " (a later meshlift wrote it: upgrade meshlift)"
+                                              : "") +
                                          " (at byte 4)");
   if (container_status != Status::ok) {
     const ContainerError& e = out.container.error();
