@@ -411,6 +411,9 @@ std::string first_problem_for_triangle_codec(const MeshReport& r) {
 
 void add_self_intersections(const PolygonMesh& mesh, MeshReport& report) {
   if (!first_problem_for_triangle_codec(report).empty()) return;
+  // Beyond float range the BVH cannot hold the mesh (self_intersection.h): not checked.
+  for (const double x : mesh.positions)
+    if (!(std::abs(x) <= 1e30)) return;
   std::size_t total = 0;
   const auto first = self_intersections(to_triangle_mesh(mesh), 1, &total);
   report.self_intersecting_pairs = total;

@@ -26,7 +26,8 @@ namespace meshlift {
 /// signed volumes [p,q,a,b], [p,q,b,c], [p,q,c,a] have one sign; Möller and Trumbore's test in
 /// the form of Shewchuk's orient3d, without exact arithmetic). At most `max_pairs` pairs are
 /// returned (the lowest, in order); `total`, if given, receives how many there are.
-/// \throw MeshError if an index names no vertex or a coordinate is not finite.
+/// \throw MeshError if an index names no vertex or a coordinate is not finite or beyond ±1e30
+///        (float range, which the BVH holds).
 std::vector<std::array<std::uint32_t, 2>> self_intersections(const TriangleMesh& mesh, std::size_t max_pairs = SIZE_MAX,
                                                              std::size_t* total = nullptr);
 

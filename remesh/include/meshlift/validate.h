@@ -111,8 +111,9 @@ MeshReport validate_mesh(const PolygonMesh& mesh);
 MeshReport validate_mesh(const TriangleMesh& mesh);
 
 /// Fills report.self_intersecting_pairs and first_self_intersection for a triangle mesh whose
-/// report names no problem for the triangle codec (first_problem_for_triangle_codec() empty);
-/// otherwise leaves them unset. Not part of validate_mesh(): a BVH query, needed by inspection
+/// report names no problem for the triangle codec (first_problem_for_triangle_codec() empty)
+/// and whose coordinates are within ±1e30 (what the BVH's floats hold); otherwise leaves them
+/// unset. Not part of validate_mesh(): a BVH query, needed by inspection
 /// (`meshlift info`) and the remesher's fold report, not by every reader of a mesh.
 void add_self_intersections(const PolygonMesh& mesh, MeshReport& report);
 
