@@ -14,11 +14,8 @@
 namespace meshlift {
 namespace {
 
-using Vec = vec3::Vec3;
-using vec3::at;
-using vec3::cross;
-using vec3::dot;
-using vec3::sub;
+using namespace vec3;  // Vec3, at, sub, dot, cross
+using Vec = Vec3;
 
 /// Sign of the volume of tetrahedron (a, b, c, d): det[b - a, c - a, d - a], positive when d is
 /// on the side of abc's plane that abc's counter-clockwise normal points to.
