@@ -107,9 +107,9 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
   const std::size_t total = h.vertex_count(levels);
   if (guide.size() != 3 * total) throw std::invalid_argument("fit_to_surface: guide must hold one xyz per vertex");
   if (options.relax_iterations < 0 || !(options.relax_step > 0 && options.relax_step <= 1) ||
-      options.normal_line_levels < 0)
+      options.normal_line_levels < 0 || !(options.stray_distance >= 0))
     throw std::invalid_argument(
-        "fit_to_surface: relax_iterations >= 0, relax_step in (0, 1] and normal_line_levels >= 0");
+        "fit_to_surface: relax_iterations >= 0, relax_step in (0, 1], normal_line_levels >= 0 and stray_distance >= 0");
   const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const BoundaryCurves boundary(surface.mesh());
   const TriangleMesh& input = surface.mesh();

@@ -137,7 +137,7 @@ TEST_CASE("The normal-line placement puts level-1 vertices on their frame normal
   CHECK(folds.degenerate.empty());
 }
 
-TEST_CASE("fit_to_surface refuses a negative normal_line_levels", "[remesh][surface_fit]") {
+TEST_CASE("fit_to_surface refuses a negative normal_line_levels or stray_distance", "[remesh][surface_fit]") {
   const TriangleMesh input = test::icosahedron();
   const SurfaceQuery surface(input);
   const SemiRegularHierarchy h(TriangleTopology::build(12, input.triangles), 1);
@@ -145,6 +145,9 @@ TEST_CASE("fit_to_surface refuses a negative normal_line_levels", "[remesh][surf
   std::vector<double> guide(3 * std::size_t{h.vertex_count(1)}, 0.0);
   SurfaceFitOptions options;
   options.normal_line_levels = -1;
+  CHECK_THROWS_AS(fit_to_surface(mesh, guide, surface, options), std::invalid_argument);
+  options.normal_line_levels = 1;
+  options.stray_distance = -1;
   CHECK_THROWS_AS(fit_to_surface(mesh, guide, surface, options), std::invalid_argument);
 }
 

@@ -37,7 +37,8 @@ struct SurfaceFitOptions {
   /// (the guide's points are far off those lines), the finer levels gain nothing; >= 0.
   int normal_line_levels = 1;
   /// A new vertex placed farther than this many lengths of its edge from the edge's midpoint is
-  /// placed again from the midpoint, or left there (surface_fit.cpp: strays); 0 turns it off.
+  /// placed again from the midpoint, or left there (surface_fit.cpp: strays); 0 turns it off;
+  /// >= 0.
   double stray_distance = 2.0;
   /// Threads for the projections (results do not depend on it); 0 = hardware concurrency.
   unsigned threads = 0;
