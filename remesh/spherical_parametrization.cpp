@@ -20,7 +20,6 @@
 
 #include <OpenMesh/Core/Utils/vector_traits.hh>  // QuadricT.hh uses it without including it
 #include <OpenMesh/Core/Geometry/QuadricT.hh>
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
@@ -33,6 +32,7 @@
 #include <string>
 
 #include "meshlift/validate.h"
+#include "halfedge_mesh.h"
 
 namespace meshlift {
 
@@ -105,11 +105,6 @@ double spherical_squared_stretch(const Vec& p0, const Vec& p1, const Vec& p2, co
 
 double triangle_area(const Vec& a, const Vec& b, const Vec& c) { return 0.5 * norm(cross(sub(b, a), sub(c, a))); }
 
-struct Traits : OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;
-  using Normal = OpenMesh::Vec3d;
-};
-using HalfedgeMesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
 
 /// One halfedge collapse v0 -> v1 with its left and right wing vertices.
 struct Collapse {

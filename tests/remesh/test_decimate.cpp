@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -19,6 +20,7 @@
 #include "meshlift/mesh_io.h"
 #include "meshlift/validate.h"
 #include "test_meshes.h"
+#include "../../remesh/halfedge_mesh.h"
 
 using namespace meshlift;
 
@@ -493,5 +495,41 @@ TEST_CASE("decimate: corpus meshes to a few hundred vertices", "[corpus][decimat
       // 105-152° on elephant, lion-head and armadillo with faces that agree with all corners.)
       REQUIRE(turned == 0);
     }
+  }
+}
+
+TEST_CASE("decimate: the collapse test compiled here decides as OpenMesh's own", "[decimate]") {
+  // remesh/halfedge_mesh.h replaces TriConnectivity::is_collapse_ok() (slow in Debian's
+  // assert-enabled build) by its own link-condition test; both are asked about every halfedge of
+  // closed, open and higher-genus meshes, and again after each of many random collapses (which
+  // create the valence-3 flaps, boundary corners and near-tetrahedra where the rules differ).
+  for (const TriangleMesh& input : {test::icosphere(2), test::grid(6), test::torus(), test::bicone(5), test::disk(6)}) {
+    HalfedgeMesh mesh;
+    std::vector<HalfedgeMesh::VertexHandle> handle;
+    for (std::size_t v = 0; v < input.vertex_count(); ++v)
+      handle.push_back(mesh.add_vertex({input.positions[3 * v], input.positions[3 * v + 1], input.positions[3 * v + 2]}));
+    for (std::size_t f = 0; f < input.face_count(); ++f)
+      mesh.add_face(handle[input.triangles[3 * f]], handle[input.triangles[3 * f + 1]], handle[input.triangles[3 * f + 2]]);
+    mesh.request_vertex_status();
+    mesh.request_edge_status();
+    mesh.request_halfedge_status();
+    mesh.request_face_status();
+    std::mt19937 random(7);
+    const std::size_t halfedges = mesh.n_halfedges();
+    std::size_t compared = 0, refused = 0;
+    for (int round = 0; round < 200; ++round) {
+      std::vector<HalfedgeMesh::HalfedgeHandle> allowed;
+      for (const auto h : mesh.halfedges()) {
+        const bool ours = mesh.is_collapse_ok(h), theirs = mesh.OpenMesh::TriConnectivity::is_collapse_ok(h);
+        REQUIRE(ours == theirs);
+        ++compared;
+        if (ours) allowed.push_back(h);
+        else ++refused;
+      }
+      if (allowed.empty()) break;
+      mesh.collapse(allowed[random() % allowed.size()]);
+    }
+    CHECK(compared > 2 * halfedges);  // several rounds, down to what cannot collapse
+    CHECK(refused > 0);
   }
 }
