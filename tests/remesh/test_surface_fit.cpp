@@ -169,3 +169,21 @@ TEST_CASE("Strays: a new vertex that lands on another part of a thin input is pl
   CHECK(psnr > 58);
   CHECK(psnr > control_psnr + 6);
 }
+
+TEST_CASE("count_at_crossings counts the flipped faces whose closest input face is marked", "[remesh][surface_fit]") {
+  const TriangleMesh input = test::icosphere(2);
+  const SurfaceQuery surface(input);
+  TriangleMesh remeshed = input;
+  for (const std::size_t f : {std::size_t{0}, std::size_t{40}}) std::swap(remeshed.triangles[3 * f + 1], remeshed.triangles[3 * f + 2]);
+  const FoldOvers folds = find_fold_overs(remeshed, surface);
+  REQUIRE(folds.flipped == std::vector<std::uint32_t>{0, 40});
+  std::vector<std::uint8_t> crossing(input.face_count(), 0);
+  CHECK(count_at_crossings(remeshed, folds.flipped, surface, crossing) == 0);
+  crossing[40] = 1;  // each flipped face lies on its own input face
+  CHECK(count_at_crossings(remeshed, folds.flipped, surface, crossing) == 1);
+  crossing[0] = 1;
+  CHECK(count_at_crossings(remeshed, folds.flipped, surface, crossing) == 2);
+  crossing.assign(input.face_count(), 1);
+  crossing[0] = crossing[40] = 0;  // every other face marked: none under the flipped ones
+  CHECK(count_at_crossings(remeshed, folds.flipped, surface, crossing) == 0);
+}
