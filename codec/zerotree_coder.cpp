@@ -93,6 +93,7 @@ struct Models {
   // The LIP's significance and the signs drift fastest along the lists (across the surface):
   // their models settle at shift 4 (count_max 7), the others at shift 5 (FORMAT.md §5).
   static constexpr std::uint8_t kFastCountMax = 7;
+  static_assert(kFastCountMax <= range_coder::kCountMax, "BitModel::count_max indexes kShiftForCount");
   Models() {
     for (auto& level : lip)
       for (BitModel& m : level) m.count_max = kFastCountMax;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "meshlift/range_coder.h"
@@ -127,7 +128,8 @@ TEST_CASE("range coder: extreme runs and carries", "[range_coder]") {
 
 TEST_CASE("range coder: compressed size is close to the entropy", "[range_coder][efficiency]") {
   const std::size_t count = 1000000;
-  for (double p : {0.05, 0.01, 0.2, 0.5}) {
+  // (p(1), bound on size / entropy): each a little above its measured overhead.
+  for (const auto& [p, bound] : {std::pair{0.05, 1.05}, std::pair{0.01, 1.075}, std::pair{0.2, 1.02}, std::pair{0.5, 1.015}}) {
     std::mt19937 rng(42);
     std::bernoulli_distribution bit(p);
     RangeEncoder encoder;
@@ -140,9 +142,9 @@ TEST_CASE("range coder: compressed size is close to the entropy", "[range_coder]
                 "overhead %+.2f %%\n", p, count, bytes, ideal, (ratio - 1) * 100);
     // Steady-state cost of adaptation with the ~32-bit window (shift 5, format version 2) is
     // ~0.012 bit/symbol (version 1's shift 7: ~0.003), a larger share of a smaller entropy:
-    // measured +1.2 % at p = 0.5, +4.4 % at 0.05, +6.6 % at 0.01. The window is that short
-    // because real coefficient statistics drift (FORMAT.md change log).
-    CHECK(ratio < (p >= 0.05 ? 1.05 : 1.08));
+    // measured +1.2 % at p = 0.5, +1.5 % at 0.2, +4.4 % at 0.05, +6.6 % at 0.01. The window is
+    // that short because real coefficient statistics drift (FORMAT.md change log).
+    CHECK(ratio < bound);
   }
   RangeEncoder encoder;
   std::mt19937 rng(7);
@@ -188,10 +190,10 @@ TEST_CASE("range coder: once exhausted - decoding returns 0 without consuming or
   CHECK(model.count == before.count);
 }
 
-TEST_CASE("range coder: try_decode and try_decode_direct_bit are decode and decode_direct(1) with exhausted()",
-          "[range_coder][truncation]") {
+TEST_CASE("range coder: try_decode is decode with exhausted()", "[range_coder][truncation]") {
   // The coefficient coder's fast path: the same bits, models, positions and statuses as the
-  // two calls it replaces, at every cut of the stream, with -1 exactly where exhausted() turns.
+  // two calls it replaces, at every cut of the stream, with -1 exactly where exhausted() turns;
+  // between direct bits, as a stream mixes them.
   auto symbols = make_symbols(4000, 17, 0.2);
   for (Symbol& s : symbols)
     if (s.direct) {
@@ -209,7 +211,13 @@ TEST_CASE("range coder: try_decode and try_decode_direct_bit are decode and deco
       const Symbol& s = symbols[i];
       const std::size_t k = static_cast<std::size_t>(s.context);
       const int expected = s.direct ? static_cast<int>(reference.decode_direct(1)) : reference.decode(reference_models[k]);
-      const int got = s.direct ? fast.try_decode_direct_bit() : fast.try_decode(fast_models[k]);
+      int got = 0;
+      if (s.direct) {
+        got = static_cast<int>(fast.decode_direct(1));
+        if (fast.exhausted()) got = -1;
+      } else {
+        got = fast.try_decode(fast_models[k]);
+      }
       if (reference.exhausted()) {
         CHECK(got == -1);
       } else if (got != expected) {

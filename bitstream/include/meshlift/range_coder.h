@@ -3,7 +3,7 @@
 // decodes to a prefix of the encoded symbols. Knows bits only; the exact arithmetic is specified
 // as decoder pseudo-code in bitstream/FORMAT.md §7, and the two classes below mirror it.
 //
-// Choices (frozen by format version 2; version 1 differed only in kCountMax = 63):
+// Choices (frozen by format version 2; version 1 had kCountMax = 63 and no per-model count_max):
 //  - probabilities are 15-bit (kProbOne = 2^15) and held in [kProbMin, kProbMax] =
 //    [128, 32640], so one byte of normalization always restores range >= 2^24 and the
 //    cheapest bit costs log2(256/255) = 0.0056 bits;
@@ -54,7 +54,8 @@ struct BitModel {
   std::uint16_t p = range_coder::kHalf;  ///< P(bit == 0) * 2^15, always in [kProbMin, kProbMax]
   std::uint8_t count = 0;                ///< updates so far, saturating at count_max
   /// Where count saturates, so the shift the model settles at: kCountMax (shift 5), or less
-  /// for a model whose statistics drift faster (FORMAT.md §7.3 says which). <= kCountMax.
+  /// for a model whose statistics drift faster (FORMAT.md §7.3 says which). Must be <= kCountMax
+  /// (it indexes kShiftForCount; set it only from constants checked so).
   std::uint8_t count_max = range_coder::kCountMax;
 
   /// The adaptation rule (FORMAT.md §7.3), shared by encoder and decoder so they cannot drift:
@@ -156,15 +157,6 @@ class RangeDecoder {
     code_ -= bound & one;
     range_ = bound ^ ((bound ^ (range_ - bound)) & one);  // bound if bit == 0, else range_ - bound
     model.update(bit);
-    return bit;
-  }
-
-  /// decode_direct(1) and exhausted() in one: the bit, or -1 as for try_decode().
-  int try_decode_direct_bit() {
-    if (range_ < range_coder::kTop && !refill()) return -1;
-    range_ >>= 1;
-    const int bit = code_ >= range_;
-    code_ -= range_ & (0u - static_cast<std::uint32_t>(bit));
     return bit;
   }
 
