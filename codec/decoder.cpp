@@ -40,18 +40,20 @@ struct ParsedStream {
 /// Parses container and header; on success fills `out`, else returns the failure.
 DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limits, ParsedStream& out) {
   const Status container_status = out.container.parse(bytes);
-  if (container_status == Status::unsupported_version)
-    return failure(container_status, "the stream is format version " + std::to_string(out.container.version()) +
-                                         "; this build reads only version " + std::to_string(container::kFormatVersion) +
-                                         (out.container.version() == 1
-                                              ? " (version 1 modelled its coefficients differently: re-encode it "
-                                                "from the source mesh with this build)"
-                                          : out.container.version() > container::kFormatVersion
-                                              ? " (a later meshlift wrote it: upgrade meshlift)"
-                                              : "") +
-                                         " (at byte 4)");
   if (container_status != Status::ok) {
     const ContainerError& e = out.container.error();
+    const std::uint8_t version = out.container.version();
+    // unsupported_version is also an unknown critical chunk (FORMAT.md §2.4): only another
+    // version number gets the version's own explanation.
+    if (container_status == Status::unsupported_version && version != container::kFormatVersion)
+      return failure(container_status,
+                     "the stream is format version " + std::to_string(version) + "; this build reads only version " +
+                         std::to_string(container::kFormatVersion) +
+                         (version == 1 ? " (version 1 modelled its coefficients differently: re-encode it from the "
+                                         "source mesh with this build)"
+                          : version > container::kFormatVersion ? " (a later meshlift wrote it: upgrade meshlift)"
+                                                                : "") +
+                         " (at byte " + std::to_string(e.offset) + ")");
     return failure(container_status, std::string(describe(container_status)) + " (at byte " + std::to_string(e.offset) +
                                          ", chunk " + std::to_string(e.chunk_index) + ")");
   }
