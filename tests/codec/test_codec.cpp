@@ -477,11 +477,12 @@ TEST_CASE("extra channels: every prefix decodes them and their error falls with 
     for (std::size_t c = 0; c < 2; ++c) {
       REQUIRE(r.channels[c].values.size() == mesh.channels[c].values.size());
       const double error = channel_rms(r.channels[c].values, mesh.channels[c].values);
-      // 15 %, not the geometry's 5 % (test_prefixes.h): a channel has a few hundred coefficients
-      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more, most
-      // in the colour's step (z > 0): +13 % at a 285-byte cut of format version 2's stream, in
-      // the coarse planes, before falling to half of it 111 bytes later.
-      CHECK(error <= previous[c] * 1.15 + 1e-12);
+      // 10 %, not the geometry's 5 % (test_prefixes.h): a channel has a few hundred coefficients
+      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more; 15 % for
+      // the colour (channel 1), whose step (z > 0) rises by 13 % at a 285-byte cut of format
+      // version 2's stream, in the coarse planes, before falling to half of it 111 bytes later.
+      const double slack[2] = {1.10, 1.15};
+      CHECK(error <= previous[c] * slack[c] + 1e-12);
       previous[c] = std::min(previous[c], error);
     }
   }
