@@ -1,6 +1,7 @@
 // Semi-regular mesh -> .mlz stream: analyze, normalize and quantize, then the HEAD, BASE and
 // COEF chunks (bitstream/FORMAT.md §3-5). Mirrors decoder.cpp.
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -217,39 +218,20 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // Each value's extremes over all vertices (the bounding box and the channels' ranges), taken
   // as the values are gathered (min and max are exact: the order they see the values in does
   // not matter).
-  std::vector<double> lowest(k_stride), highest(k_stride);
-  {
-    const std::size_t old = old_vertex[0];
-    for (std::size_t k = 0; k < 3; ++k) lowest[k] = highest[k] = input.positions[3 * old + k];
-    std::size_t offset = 3;
-    for (const VertexChannel& c : input.channels) {
-      const std::size_t n = static_cast<std::size_t>(c.components);
-      for (std::size_t k = 0; k < n; ++k) lowest[offset + k] = highest[offset + k] = c.values[n * old + k];
-      offset += n;
-    }
-  }
+  std::vector<double> lowest(k_stride, std::numeric_limits<double>::infinity()),
+      highest(k_stride, -std::numeric_limits<double>::infinity());
   std::vector<double> values;
   reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
-  double lx = lowest[0], ly = lowest[1], lz = lowest[2], hx = highest[0], hy = highest[1], hz = highest[2];
   for (std::uint32_t v = 0; v < V; ++v) {
     const std::size_t old = old_vertex[v];
-    const double* p = &input.positions[3 * old];
-    lx = std::min(lx, p[0]), ly = std::min(ly, p[1]), lz = std::min(lz, p[2]);
-    hx = std::max(hx, p[0]), hy = std::max(hy, p[1]), hz = std::max(hz, p[2]);
-    values.insert(values.end(), p, p + 3);
-    std::size_t offset = 3;
+    values.insert(values.end(), &input.positions[3 * old], &input.positions[3 * old] + 3);
     for (const VertexChannel& c : input.channels) {
       const std::size_t n = static_cast<std::size_t>(c.components);
-      const double* x = &c.values[n * old];
-      for (std::size_t k = 0; k < n; ++k) {
-        lowest[offset + k] = std::min(lowest[offset + k], x[k]);
-        highest[offset + k] = std::max(highest[offset + k], x[k]);
-      }
-      values.insert(values.end(), x, x + n);
-      offset += n;
+      values.insert(values.end(), &c.values[n * old], &c.values[n * old] + n);
     }
+    const double* row = &values[std::size_t{v} * k_stride];
+    for (std::size_t k = 0; k < k_stride; ++k) lowest[k] = std::min(lowest[k], row[k]), highest[k] = std::max(highest[k], row[k]);
   }
-  lowest[0] = lx, lowest[1] = ly, lowest[2] = lz, highest[0] = hx, highest[1] = hy, highest[2] = hz;
   // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
   // diagonal as bounding_box_diagonal computes it from the same extremes).
   double lo[3], hi[3];
