@@ -41,24 +41,19 @@ void assign_large(std::vector<T>& v, std::size_t n, const T& value = T{}) {
   v.assign(n, value);
 }
 
-/// v emptied, with room for exactly n elements, advised before it is first written: for an array
-/// filled by appending, which then writes each element once (assign_large writes it twice: the
-/// zeros, then the value).
+/// v emptied, with room for n elements, advised before it is first written: for an array filled
+/// by appending, which then writes each element once (assign_large writes it twice: the zeros,
+/// then the value). Storage that already holds n elements is kept: an array a caller hands over
+/// again and again (decode_into) has its pages resident.
 template <class T>
 void reserve_large(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() >= n) {
+    v.clear();
+    return;
+  }
   std::vector<T>().swap(v);
   v.reserve(n);
   advise_huge_pages(v.data(), n * sizeof(T));
-}
-
-/// reserve_large(v, n), except that storage already holding n elements is kept (emptied): for an
-/// array a caller hands over again and again (decode_into), whose pages are then resident.
-template <class T>
-void reserve_large_reusing(std::vector<T>& v, std::size_t n) {
-  if (v.capacity() >= n)
-    v.clear();
-  else
-    reserve_large(v, n);
 }
 
 }  // namespace meshlift

@@ -16,7 +16,7 @@ void twice_refined_triangles(const TriangleTopology& coarse, std::vector<std::ui
   const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
   const std::uint32_t middle_V = V + E;  // vertices of the middle level
   const std::size_t F = coarse.face_count();
-  reserve_large_reusing(out, 48 * F);
+  reserve_large(out, 48 * F);
   for (std::size_t f = 0; f < F; ++f) {
     const std::uint32_t* c = &coarse.triangles[3 * f];
     const std::uint32_t* fe = &coarse.face_edges[3 * f];
@@ -137,7 +137,7 @@ void SemiRegularHierarchy::copy_triangles(int level, std::vector<std::uint32_t>&
   if (level == levels() && !has_finest_triangles_)
     return below_finest_held ? topologies_.back().refined_triangles(out) : twice_refined_triangles(topologies_.back(), out);
   const std::vector<std::uint32_t>& faces = triangles(level);
-  reserve_large_reusing(out, faces.size());
+  reserve_large(out, faces.size());
   out.insert(out.end(), faces.begin(), faces.end());
 }
 
@@ -149,12 +149,9 @@ std::vector<std::uint32_t> SemiRegularHierarchy::release_finest_triangles() && {
 
 void SemiRegularHierarchy::release_finest_triangles(std::vector<std::uint32_t>& out) && {
   if (levels() == 0 || has_finest_triangles_) {
-    // Held already: copied into storage of the caller's that holds them, else moved out.
+    // Held already: handed over (the caller's storage goes with the hierarchy).
     std::vector<std::uint32_t>& held = levels() == 0 ? topologies_.back().triangles : finest_triangles_;
-    if (out.capacity() >= held.size())
-      out.assign(held.begin(), held.end());
-    else
-      out = std::move(held);
+    out.swap(held);
   } else if (!has_topology(levels() - 1)) {
     // twice_refined_triangles() reads only the corners, edges and face edges of level L - 2.
     TriangleTopology last;

@@ -135,7 +135,7 @@ std::vector<std::uint32_t> TriangleTopology::refined_triangles() const {
 
 void TriangleTopology::refined_triangles(std::vector<std::uint32_t>& out) const {
   const std::uint32_t V = vertex_count;
-  reserve_large_reusing(out, 12 * face_count());
+  reserve_large(out, 12 * face_count());
   for (std::size_t f = 0; f < face_count(); ++f) {
     // Corner c_i keeps face (c_i, m_i, m_{i+2}); the centre face is (m_0, m_1, m_2), where m_i is
     // the odd vertex V + e on face edge i (c_i -> c_{i+1}).

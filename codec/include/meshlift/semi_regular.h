@@ -64,7 +64,8 @@ class SemiRegularHierarchy {
   /// of the whole hierarchy). The hierarchy is empty afterwards.
   std::vector<std::uint32_t> release_finest_triangles() &&;
   /// copy_triangles() and release_finest_triangles() into `out`, whose storage is kept if it can
-  /// hold the faces: for a caller that hands the same array over again and again (decode_into).
+  /// hold the faces (for a caller that hands the same array over again and again, decode_into),
+  /// except where the faces are held already: then `out` takes the held storage.
   void copy_triangles(int level, std::vector<std::uint32_t>& out) const;
   void release_finest_triangles(std::vector<std::uint32_t>& out) &&;
   /// The level a vertex first appears on.
