@@ -250,7 +250,8 @@ void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& optio
   Storage storage{std::move(result.mesh.positions), std::move(result.mesh.triangles), std::move(result.channels)};
   result = decode_with(bytes, options, &storage);
   if (result.status == Status::ok) return;
-  // Nothing decoded: the caller's arrays back, empty, their storage kept for the next call.
+  // Nothing decoded: the caller's arrays back, empty, with the storage they still hold (none
+  // where the failure came after decode_with took it).
   result.mesh.positions = std::move(storage.positions);
   result.mesh.triangles = std::move(storage.faces);
   result.channels = std::move(storage.channels);

@@ -35,7 +35,7 @@ __attribute__((target("avx"))) std::size_t quantize_avx(const double* x, std::si
                                                         double weight, Coefficient* out, double* reconstruction,
                                                         bool& too_fine) {
   const std::size_t period = 4 * static_cast<std::size_t>(components);
-  alignas(32) double pattern[4 * 16];
+  alignas(32) double pattern[4 * zerotree::kMaxComponents];  // period <= 4 * kMaxComponents (quantize.h)
   for (std::size_t t = 0; t < period; ++t) pattern[t] = steps[t % static_cast<std::size_t>(components)];
   const __m256d sign = _mm256_set1_pd(-0.0), w = _mm256_set1_pd(weight), cap = _mm256_set1_pd(2147483647.0);
   const __m256d limit = _mm256_set1_pd(2147483648.0), half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();

@@ -20,7 +20,7 @@ namespace meshlift {
 /// whether some |x| w_j / step_c reached 2^31 (the precision is too fine for 32-bit magnitudes).
 /// Four coefficients per instruction where AVX is offered, with the same IEEE operations in the
 /// same order as the scalar formulas (no FMA), so the same bits; a NaN quantizes to 0 either way.
-/// \pre 1 <= components <= 16.
+/// \pre 1 <= components <= zerotree::kMaxComponents.
 bool quantize(const double* x, std::size_t n, int components, const double* steps, double weight,
               zerotree::Quantized::Coefficient* out, double* reconstruction);
 

@@ -93,7 +93,9 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
 /// and again (a viewer asking a Decoder for the mesh as bytes arrive) and keeps one result, so
 /// that no decode after the first faults in fresh pages for its output (an output of millions of
 /// vertices is over 100 MB). The same status and contents as decode(); the arrays may keep spare
-/// capacity. On an error status the mesh and channels are empty, their storage kept.
+/// capacity. On an error status the mesh and channels are empty; the mesh's storage is kept when
+/// the failure came before the values were decoded (header, limits, base mesh), not when it came
+/// during the decode (out of memory, a corrupt coefficient stream).
 void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result);
 
 /// Streaming decode: push bytes as they arrive, ask for the best mesh at any moment.
