@@ -18,7 +18,8 @@
 #include "test_meshes.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
-// The coefficient coder is internal to the codec library (no public header): timed alone here.
+// The coefficient coder (and the base part before it) is internal to the codec library (no public header): timed alone here.
+#include "../codec/base_values.h"
 #include "../codec/zerotree_coder.h"
 
 using namespace meshlift;
@@ -229,7 +230,10 @@ int main(int argc, char** argv) {
   {
     const SemiRegularMesh ordered = canonical_order(mesh);
     const zerotree::Forest forest(ordered.hierarchy);
-    const int top = inspect(file).top_plane;
+    const StreamInfo info = inspect(file);
+    const int top = info.top_plane, base_plane = info.base_plane;
+    const std::span<const std::uint32_t> base_triangles = ordered.hierarchy.triangles(0);
+    const std::uint32_t base_vertices = ordered.hierarchy.vertex_count(0);
     auto coefficient_bytes = [&](std::size_t budget) {
       ContainerReader reader;
       std::vector<std::uint8_t> bytes;
@@ -243,7 +247,11 @@ int main(int argc, char** argv) {
       const std::vector<std::uint8_t> bytes = coefficient_bytes(budget);
       const Timing t = best_of(runs, [&] {
         RangeDecoder decoder(bytes);
-        decoded = zerotree::decode(forest, zerotree::kGeometryComponents, top, decoder);
+        std::vector<std::int64_t> base_high;
+        bool corrupt = false;
+        base_values::decode(base_triangles, base_vertices, zerotree::kGeometryComponents, base_plane, top, decoder,
+                            base_high, corrupt);
+        decoded = zerotree::decode(forest, zerotree::kGeometryComponents, top, base_plane, base_high, decoder);
       });
       const std::string what = "SPIHT decode " + std::to_string(8.0 * std::min(budget, file.size()) / V).substr(0, 4) + " bpv";
       print_timing(what.c_str(), t, V, "(coefficient bytes only)");
@@ -260,7 +268,8 @@ int main(int argc, char** argv) {
     std::vector<std::uint8_t> bytes;
     const Timing t = best_of(runs, [&] {
       RangeEncoder encoder;
-      zerotree::encode(forest, q, top, encoder);
+      base_values::encode(base_triangles, base_vertices, q, base_plane, top, encoder);
+      zerotree::encode(forest, q, top, base_plane, encoder);
       bytes = encoder.finish();
     });
     const bool same = bytes == coefficient_bytes(file.size());

@@ -6,6 +6,7 @@
 #include <new>
 
 #include "base_mesh_coder.h"
+#include "base_values.h"
 #include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
@@ -49,10 +50,11 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
       return failure(container_status,
                      "the stream is format version " + std::to_string(version) + "; this build reads only version " +
                          std::to_string(container::kFormatVersion) +
-                         (version == 1 ? " (version 1 modelled its coefficients differently: re-encode it from the "
-                                         "source mesh with this build)"
-                          : version > container::kFormatVersion ? " (a later meshlift wrote it: upgrade meshlift)"
-                                                                : "") +
+                         (version == 0 ? ""
+                          : version < container::kFormatVersion
+                              ? " (an earlier meshlift wrote it, whose coefficients are coded differently: re-encode "
+                                "it from the source mesh with this build)"
+                              : " (a later meshlift wrote it: upgrade meshlift)") +
                          " (at byte " + std::to_string(e.offset) + ")");
     return failure(container_status, std::string(describe(container_status)) + " (at byte " + std::to_string(e.offset) +
                                          ", chunk " + std::to_string(e.chunk_index) + ")");
@@ -148,8 +150,18 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
     // without the topology of level L - 1 either: its synthesis, its frames and the output faces
     // read it off level L - 2 (a quarter of the size), and the Forest never reads it.
     SemiRegularHierarchy h(std::move(base), header.levels, false, false, header.scheme != Scheme::loop);
+    // The base part, then the bit planes (FORMAT.md §5). A stream cut inside the base part
+    // leaves the later base vertices at 0, and the bit planes then stop at their first decision.
     RangeDecoder decoder(stream.coefficients);
-    zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(h), K, header.top_plane, decoder);
+    std::vector<std::int64_t> base_high;
+    bool base_corrupt = false;
+    const std::uint32_t base_decoded = base_values::decode(h.triangles(0), header.base_vertices, K, header.base_plane,
+                                                           header.top_plane, decoder, base_high, base_corrupt);
+    if (base_corrupt)
+      return failure(Status::corrupt, "the base part of the coefficient stream holds a value out of range, or an "
+                                      "invalid integer code");
+    zerotree::Decoded decoded =
+        zerotree::decode(zerotree::Forest(h), K, header.top_plane, header.base_plane, base_high, decoder);
 
     // Dequantize: value = midpoint * step_c / w_j (FORMAT.md §5).
     const int L = header.levels;
@@ -230,6 +242,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
       h.copy_triangles(result.level, faces);
     result.mesh.triangles = std::move(faces);
     result.bit_plane = last_plane;
+    result.base_vertices_decoded = base_decoded;
     result.bytes_used = prefix.size();
     result.complete = all_planes && !stream.container.truncated();
     return result;
@@ -279,6 +292,7 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
   info.step = h.step;
   info.level_weights = h.level_weights;
   info.top_plane = h.top_plane;
+  info.base_plane = h.base_plane;
   info.local_frames = h.local_frames;
   info.tangent_shift = h.tangent_shift;
   info.channels = h.channels;

@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 
+#include "base_values.h"
 #include "meshlift/byte_io.h"
 #include "zerotree_coder.h"
 
@@ -32,7 +33,7 @@ double StreamHeader::component_step(int c, int level) const {
   return step;  // not reached for c < components()
 }
 
-// Layout (FORMAT.md §3): u8 scheme, u8 flags, u8 levels, u8 top_plane + 1, varint base vertices,
+// Layout (FORMAT.md §3): u8 scheme, u8 flags, u8 levels, u8 top_plane + 1, u8 base_plane, varint base vertices,
 // varint base faces, f64 step, 3 x f64 center, (levels + 1) x f64 level weights; if flag bit 1,
 // u8 tangent_shift; if flag bit 2, u8 channel count, then per channel u8 components, f64 step,
 // components x f64 center.
@@ -43,6 +44,7 @@ std::vector<std::uint8_t> StreamHeader::write() const {
                                  (channels.empty() ? 0 : kFlagChannels)));
   w.u8(static_cast<std::uint8_t>(levels));
   w.u8(static_cast<std::uint8_t>(top_plane + 1));
+  w.u8(static_cast<std::uint8_t>(base_plane));
   w.varint(base_vertices);
   w.varint(base_faces);
   w.u64(std::bit_cast<std::uint64_t>(step));
@@ -62,12 +64,13 @@ std::vector<std::uint8_t> StreamHeader::write() const {
 
 Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLimits& limits, std::string& message) {
   ByteReader r(payload);
-  std::uint8_t scheme_byte = 0, flags = 0, levels_byte = 0, plane_byte = 0;
+  std::uint8_t scheme_byte = 0, flags = 0, levels_byte = 0, plane_byte = 0, base_plane_byte = 0;
   std::uint64_t vertices = 0, faces = 0;
   r.u8(scheme_byte);
   r.u8(flags);
   r.u8(levels_byte);
   r.u8(plane_byte);
+  r.u8(base_plane_byte);
   r.varint(vertices);
   r.varint(faces);
   if (!r.ok()) {
@@ -90,6 +93,12 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
     message = "header claims bit plane " + std::to_string(plane_byte - 1);
     return Status::corrupt;
   }
+  if (base_plane_byte > plane_byte || plane_byte - base_plane_byte > base_values::kMaxPlanes) {
+    message = "header claims base plane " + std::to_string(base_plane_byte) + " with top plane " +
+              std::to_string(static_cast<int>(plane_byte) - 1) + " (the base part covers at most " +
+              std::to_string(base_values::kMaxPlanes) + " planes, none above the top)";
+    return Status::corrupt;
+  }
   if (vertices < 3 || faces < 1) {
     message = "header claims an empty base mesh";
     return Status::corrupt;
@@ -105,6 +114,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   local_frames = flags & kFlagLocalFrames;
   levels = levels_byte;
   top_plane = static_cast<int>(plane_byte) - 1;
+  base_plane = base_plane_byte;
   base_vertices = static_cast<std::uint32_t>(vertices);
   base_faces = static_cast<std::uint32_t>(faces);
   auto read_double = [&](double& out) {

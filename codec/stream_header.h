@@ -16,6 +16,9 @@ struct StreamHeader {
   bool mean_preserving_update = false;
   int levels = 0;
   int top_plane = -1;  ///< highest bit plane coded, -1 if every coefficient is zero
+  /// The base part (base_values.h) codes the base coefficients' planes [base_plane, top_plane];
+  /// top_plane + 1: no base part.
+  int base_plane = 0;
   std::uint32_t base_vertices = 0;
   std::uint32_t base_faces = 0;
   double step = 1.0;  ///< quantization step of plane 0, normalized coefficient domain

@@ -175,7 +175,8 @@ constexpr std::size_t kPrefetchDistance = 16;
 //   plane where D(v) was significant and no child was.
 // Returns false where the decoder's input ran out; `lists` then hold what was decoded.
 template <class Io>
-bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<ComponentLists>& lists) {
+bool run(const Forest& f, int components, int top, int base_plane, const std::int64_t* base_high, Io& caller_io,
+         std::vector<ComponentLists>& lists) {
   constexpr bool kEncoder = Io::kEncoder;
   // The passes work on a local Io, handed back on every exit: a local whose address does not
   // escape can live in registers (the decoder's range and code), where one behind a reference
@@ -214,13 +215,43 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
   const std::size_t state_bytes = (std::size_t{stateful} + 3) / 4;
   const std::unique_ptr<std::uint8_t[]> state_storage =
       std::make_unique<std::uint8_t[]>(state_bytes * static_cast<std::size_t>(components));
+  // Base part (FORMAT.md §5.2): the base coefficients with bits at planes >= base_plane start in
+  // the LSP, in vertex order, significant (their state set), known down to base_plane; the
+  // others in the LIP, in front of every child that joins it. Both are left out of the passes
+  // above base_plane (the first base_lip LIP and base_lsp LSP entries are skipped there).
+  const bool base_part = base_plane <= top;
+  std::vector<std::size_t> base_lip(static_cast<std::size_t>(components)), base_lsp(base_lip.size());
+  auto high_part = [&](std::uint32_t v, int c) -> std::int64_t {
+    if (!base_part) return 0;
+    if constexpr (kEncoder) return io.magnitude(v, c) >> base_plane;
+    return base_high[std::size_t{v} * static_cast<std::size_t>(components) + static_cast<std::size_t>(c)];
+  };
   for (int c = 0; c < components; ++c) {
     ComponentLists& l = lists[static_cast<std::size_t>(c)];
+    std::uint8_t* const component_state = state_storage.get() + state_bytes * static_cast<std::size_t>(c);
+    SignificantList& lsp = l.lsp;
     for (std::uint32_t v = 0; v < f.roots; ++v) {
+      const std::int64_t high = high_part(v, c);
+      if (high == 0) continue;
+      const bool negative = kEncoder ? io.negative(v, c) : high < 0;
+      if (v < stateful)
+        component_state[v >> 2] |= static_cast<std::uint8_t>((negative ? kSignificantNegative : kSignificant) << (2 * (v & 3)));
+      lsp.vertex[lsp.size] = v;
+      lsp.tag[lsp.size] = negative ? kNegativeTag : 0;  // level 0
+      lsp.magnitude[lsp.size] =
+          kEncoder ? io.magnitude(v, c) : static_cast<std::uint32_t>((high < 0 ? -high : high) << base_plane);
+      ++lsp.size;
+    }
+    lsp.preset = base_lsp[static_cast<std::size_t>(c)] = lsp.size;
+    for (std::uint32_t v = 0; v < f.roots; ++v) {
+      if (high_part(v, c) != 0) continue;
       l.lip_vertex[l.lip_size] = v;
       l.lip_tag[l.lip_size] = kEncoder && io.negative(v, c) ? kNegativeTag : 0;
       if constexpr (kEncoder) l.lip_magnitude[l.lip_size] = io.magnitude(v, c);
       ++l.lip_size;
+    }
+    base_lip[static_cast<std::size_t>(c)] = l.lip_size;
+    for (std::uint32_t v = 0; v < f.roots; ++v) {
       if (!f.children(v).empty()) {
         l.lis_vertex[l.lis_size] = v;
         l.lis_tag[l.lis_size] = 0;
@@ -273,9 +304,11 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
         return true;
       };
 
-      // Sorting pass, LIP (compacted in place).
-      std::size_t keep = 0;
-      for (std::size_t i = 0; i < lip_size; ++i) {
+      // Sorting pass, LIP (compacted in place). Above the base plane the base entries in front
+      // wait (their bits there are the base part's).
+      const bool above_base = n >= base_plane;
+      std::size_t keep = above_base ? base_lip[static_cast<std::size_t>(c)] : 0;
+      for (std::size_t i = keep; i < lip_size; ++i) {
         const std::uint32_t v = lip_vertex[i];
         const std::uint8_t tag = lip_tag[i];
         const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
@@ -385,7 +418,7 @@ bool run(const Forest& f, int components, int top, Io& caller_io, std::vector<Co
       // Refinement pass: bit n of each magnitude (the decoder ORs it in; for the encoder, whose
       // magnitude already has it, that changes nothing).
       const std::size_t refine_count = l.lsp.refine_count;
-      for (std::size_t i = 0; i < refine_count; ++i) {
+      for (std::size_t i = above_base ? base_lsp[static_cast<std::size_t>(c)] : 0; i < refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
         const int b = io.bit(models.refine[lsp_tag[i] & kLevelMask][c], kEncoder && (magnitude & bit_n) != 0);
         if (b < 0) {
@@ -473,7 +506,7 @@ class DecoderIo {
 
 }  // namespace
 
-void encode(const Forest& forest, Quantized& q, int top, RangeEncoder& encoder) {
+void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEncoder& encoder) {
   if (q.components < 1 || q.components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   if (q.size != std::size_t{forest.vertex_count()} * static_cast<std::size_t>(q.components))
     throw std::invalid_argument("zerotree: the coefficients are not the forest's vertices times the components");
@@ -482,13 +515,17 @@ void encode(const Forest& forest, Quantized& q, int top, RangeEncoder& encoder) 
   std::vector<ComponentLists> lists;
   lists.reserve(static_cast<std::size_t>(q.components));
   for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true);
-  run(forest, q.components, top, io, lists);
+  run(forest, q.components, top, base_plane, nullptr, io, lists);
 }
 
-Decoded decode(const Forest& forest, int components, int top, RangeDecoder& decoder) {
+Decoded decode(const Forest& forest, int components, int top, int base_plane, std::span<const std::int64_t> base_high,
+               RangeDecoder& decoder) {
   if (components < 1 || components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
+  if (base_plane <= top && base_high.size() != std::size_t{forest.roots} * static_cast<std::size_t>(components))
+    throw std::invalid_argument("zerotree: the base part's values are not the roots times the components");
   Decoded out;
   out.components = components;
+  out.base_plane = base_plane;
   if (top < 0) {
     out.complete = true;
     return out;
@@ -497,7 +534,7 @@ Decoded decode(const Forest& forest, int components, int top, RangeDecoder& deco
   lists.reserve(static_cast<std::size_t>(components));
   for (int c = 0; c < components; ++c) lists.emplace_back(forest, false);
   DecoderIo io(decoder);
-  out.complete = run(forest, components, top, io, lists);
+  out.complete = run(forest, components, top, base_plane, base_high.data(), io, lists);
   decoder = io.decoder();
   out.last_plane = io.last_plane();
   for (ComponentLists& l : lists) out.significant.push_back(std::move(l.lsp));

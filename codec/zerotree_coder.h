@@ -2,12 +2,14 @@
 // trees (SPIHT, Said & Pearlman 1996) over the semi-regular coefficient tree, as Progressive
 // Geometry Compression (Khodakovsky, Schroeder, Sweldens 2000) does, with every decision coded by
 // the adaptive binary range coder under a context (level, component, and what is known of the
-// vertex, its siblings and its parent: FORMAT.md §5, version 2).
+// vertex, its siblings and its parent: FORMAT.md §5.2, versions 2 and 3), after the base part
+// (base_values.h) has coded the base vertices' top planes.
 // A vertex carries K components: its three geometry coefficients (x, y, z, or normal and two
 // tangents in local frames) and then those of any extra channels (FORMAT.md §5).
 // Encoder and decoder run the same traversal (zerotree_coder.cpp), so they cannot drift apart.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -81,7 +83,11 @@ struct Quantized {
 int top_plane(const Quantized& q);
 
 /// Codes q's magnitudes and signs; fills in the widths of its vertices with children first.
-void encode(const Forest& forest, Quantized& q, int top_plane, RangeEncoder& encoder);
+/// The base vertices' bits at planes >= base_plane are not coded here (base_values.h codes them
+/// before): a base coefficient with bits there starts in the LSP, the others in the LIP, and
+/// both are first tested or refined at plane base_plane - 1 (FORMAT.md §5.2). base_plane >
+/// top_plane: the base is coded here like every vertex (nothing before).
+void encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder);
 
 /// SPIHT's list of significant coefficients (LSP) of one component, in the order they became
 /// significant, as parallel arrays of capacity `capacity` (pages become resident as they fill):
@@ -97,6 +103,9 @@ struct SignificantList {
   /// Of the plane being coded: entries [0, refine_count) were significant before it, and
   /// [0, refined) of them have had its refinement bit.
   std::size_t refine_count = 0, refined = 0;
+  /// Entries [0, preset) are the base coefficients the base part made significant (base_values.h),
+  /// known down to the base plane before the first plane began.
+  std::size_t preset = 0;
 
   explicit SignificantList(std::size_t capacity);
 };
@@ -121,6 +130,7 @@ struct Decoded {
   int components = kGeometryComponents;
   std::vector<SignificantList> significant;  ///< one per component (none if top_plane < 0)
   int last_plane = -1;  ///< the lowest plane the decoder reached (partly or wholly)
+  int base_plane = 0;   ///< the preset entries are known down to this plane at least
   bool complete = false;
 
   /// Calls f(const Coefficient&) for every significant coefficient, component by component.
@@ -130,9 +140,9 @@ struct Decoded {
       const SignificantList& l = significant[c];
       for (std::size_t i = 0; i < l.size; ++i) {
         const std::uint8_t tag = l.tag[i];
+        const int low = last_plane + (i >= l.refined && i < l.refine_count ? 1 : 0);
         f(Coefficient{l.vertex[i], static_cast<int>(c), tag & SignificantList::kLevelMask, l.magnitude[i],
-                      last_plane + (i >= l.refined && i < l.refine_count ? 1 : 0),
-                      (tag & SignificantList::kNegativeTag) != 0});
+                      i < l.preset ? std::min(low, base_plane) : low, (tag & SignificantList::kNegativeTag) != 0});
       }
     }
   }
@@ -152,7 +162,10 @@ struct Decoded {
 /// that the encoder's closed loop (local frames) sees bit for bit what the decoder will.
 inline double dequantize(double steps, double step, double weight) { return steps * step / weight; }
 
-/// Decodes until the stream ends (decoder exhausted) or every plane down to 0 is done.
-Decoded decode(const Forest& forest, int components, int top_plane, RangeDecoder& decoder);
+/// Decodes until the stream ends (decoder exhausted) or every plane down to 0 is done. `base_high`
+/// holds the base part's values (base_values::decode: sign * (magnitude >> base_plane), vertex-major,
+/// roots * components), read only if base_plane <= top_plane.
+Decoded decode(const Forest& forest, int components, int top_plane, int base_plane,
+               std::span<const std::int64_t> base_high, RangeDecoder& decoder);
 
 }  // namespace meshlift::zerotree

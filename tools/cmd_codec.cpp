@@ -19,6 +19,13 @@
 namespace meshlift::cli {
 namespace {
 
+/// ", base part 312 of 813 vertices" while a decode's base part (FORMAT.md §5.1) is incomplete.
+std::string base_part_note(const DecodeResult& r, const std::vector<std::uint8_t>& file) {
+  const std::uint64_t base_vertices = inspect(file).base_vertices;
+  if (r.base_vertices_decoded >= base_vertices) return "";
+  return ", base part " + std::to_string(r.base_vertices_decoded) + " of " + std::to_string(base_vertices) + " vertices";
+}
+
 /// PSNR of `test` against `reference` with the same vertices in the same order:
 /// 20 log10(diagonal / RMS vertex distance) (CODEC-NOTES §7, on vertices instead of surfaces).
 double vertex_psnr(const std::vector<double>& reference, const std::vector<double>& test) {
@@ -170,10 +177,10 @@ int run_decode(const DecodeArgs& a) {
   if (!save_mesh(a.output, r.mesh, a.binary)) return kOutputError;
   if (a.stats)
     std::fprintf(stderr,
-                 "%s: %zu of %zu bytes, level %d of %d, bit plane %d%s: %zu vertices, %zu faces; decode %.3f ms "
+                 "%s: %zu of %zu bytes, level %d of %d, bit plane %d%s%s: %zu vertices, %zu faces; decode %.3f ms "
                  "(%.2f M vertices/s, file I/O excluded)\n",
                  a.input.c_str(), r.bytes_used, file.size(), r.level, r.levels, r.bit_plane,
-                 r.complete ? " (complete)" : "", r.mesh.vertex_count(), r.mesh.face_count(), seconds * 1e3,
+                 base_part_note(r, file).c_str(), r.complete ? " (complete)" : "", r.mesh.vertex_count(), r.mesh.face_count(), seconds * 1e3,
                  static_cast<double>(r.mesh.vertex_count()) / seconds / 1e6);
   return kOk;
 }
@@ -271,8 +278,8 @@ int run_stream(const StreamArgs& a) {
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
     const double psnr = reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
                                                                      : std::numeric_limits<double>::quiet_NaN();
-    std::fprintf(stderr, "%8zu bytes (%.3f bpv): %s (%zu vertices, bit plane %d%s)", at, bpv, name,
-                 r.mesh.vertex_count(), r.bit_plane, r.complete ? ", complete" : "");
+    std::fprintf(stderr, "%8zu bytes (%.3f bpv): %s (%zu vertices, bit plane %d%s%s)", at, bpv, name,
+                 r.mesh.vertex_count(), r.bit_plane, base_part_note(r, file).c_str(), r.complete ? ", complete" : "");
     if (!reference.empty()) std::fprintf(stderr, ", PSNR %.2f dB", psnr);
     std::fprintf(stderr, "\n");
     char row[128];
@@ -301,6 +308,10 @@ void add_frame_options(CLI::App& cmd, FrameArgs& args) {
                  "local frames: quantize the tangential components 2^N times more coarsely than the normal")
       ->check(CLI::Range(0, 16))
       ->capture_default_str();
+  cmd.add_flag("--no-base-prediction", args.no_base_prediction,
+               "code every bit plane of the base vertices in the embedded planes instead of their top planes "
+               "predicted first (FORMAT.md 5.1; for rate-distortion experiments: more bits at every rate above "
+               "the base part's)");
 }
 
 void register_encode(CLI::App& app, int& exit_code) {

@@ -42,7 +42,7 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
               << (info.mean_preserving_update ? "true" : "false") << ",\n  \"levels\": " << info.levels
               << ",\n  \"base_vertices\": " << info.base_vertices << ",\n  \"base_faces\": " << info.base_faces
               << ",\n  \"vertices\": " << info.vertices << ",\n  \"faces\": " << info.faces
-              << ",\n  \"step\": " << info.step << ",\n  \"top_plane\": " << info.top_plane
+              << ",\n  \"step\": " << info.step << ",\n  \"top_plane\": " << info.top_plane << ",\n  \"base_plane\": " << info.base_plane
               << ",\n  \"local_frames\": " << (info.local_frames ? "true" : "false")
               << ",\n  \"tangent_shift\": " << info.tangent_shift << ",\n  \"channels\": [";
     for (std::size_t i = 0; i < info.channels.size(); ++i)
@@ -61,6 +61,9 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
               << "\n  levels:       " << info.levels << "\n  base mesh:    " << info.base_vertices << " vertices, "
               << info.base_faces << " faces\n  finest mesh:  " << info.vertices << " vertices, " << info.faces
               << " faces\n  quantization: step " << info.step << " (normalized), top bit plane " << info.top_plane
+              << (info.base_plane <= info.top_plane
+                      ? ", base planes " + std::to_string(info.top_plane) + ".." + std::to_string(info.base_plane) + " predicted"
+                      : std::string())
               << "\n  details:      "
               << (info.local_frames ? "local frames (normal, tangents at step x 2^" + std::to_string(info.tangent_shift) + ")"
                                     : std::string("x, y, z"));

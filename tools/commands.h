@@ -30,17 +30,20 @@ void register_rd(CLI::App& app, int& exit_code);
 void register_remesh(CLI::App& app, int& exit_code);
 void register_gim(CLI::App& app, int& exit_code);
 
-/// The codec options `encode` and `rd` share: --frames local|xyz, --tangent-shift N.
+/// The codec options `encode` and `rd` share: --frames local|xyz, --tangent-shift N,
+/// --no-base-prediction.
 struct FrameArgs {
   std::string frames = "local";
   int tangent_shift = 2;
+  bool no_base_prediction = false;
 };
 void add_frame_options(CLI::App& cmd, FrameArgs& args);
-/// Sets local_frames and tangent_shift of `options` (an EncodeOptions) from `args`.
+/// Sets local_frames, tangent_shift and predict_base of `options` (an EncodeOptions) from `args`.
 template <class Options>
 void apply_frame_options(const FrameArgs& args, Options& options) {
   options.local_frames = args.frames == "local";
   options.tangent_shift = args.tangent_shift;
+  options.predict_base = !args.no_base_prediction;
 }
 
 /// Refuses (returns false and prints why) when `output` names the same file as `input`.

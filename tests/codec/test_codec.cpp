@@ -249,9 +249,10 @@ TEST_CASE("base connectivity costs a few bits per base vertex", "[codec]") {
 }
 
 TEST_CASE("a tiny file claiming huge counts is rejected before allocating", "[codec][robust]") {
-  // HEAD: linear, no flags, 12 levels, plane 31, 2^40 base vertices and faces: limit_exceeded.
+  // HEAD: linear, no flags, 12 levels, plane 31, no base part, 2^40 base vertices and faces:
+  // limit_exceeded.
   ByteWriter head;
-  for (std::uint8_t b : {0, 0, 12, 32}) head.u8(b);
+  for (std::uint8_t b : {0, 0, 12, 32, 32}) head.u8(b);
   head.varint(std::uint64_t{1} << 40);
   head.varint(std::uint64_t{1} << 40);
   ContainerWriter writer;
@@ -270,7 +271,7 @@ TEST_CASE("a small file whose header refines a real base past the vertex limit i
   ContainerReader reader;
   REQUIRE(reader.parse(valid) == Status::ok);
   ByteWriter head;
-  for (std::uint8_t b : {2, 0, 12, 1}) head.u8(b);
+  for (std::uint8_t b : {2, 0, 12, 1, 1}) head.u8(b);
   head.varint(12);
   head.varint(20);
   for (int i = 0; i < 4 + 13; ++i) head.u64(std::bit_cast<std::uint64_t>(1.0));
@@ -292,9 +293,10 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
   const auto valid = encode(bumpy(test::icosahedron(), 1), {});
   ContainerReader reader;
   REQUIRE(reader.parse(valid) == Status::ok);
-  auto with_head = [&](std::uint8_t flags, double step, double weight, const std::vector<std::uint8_t>& tail) {
+  auto with_head = [&](std::uint8_t flags, double step, double weight, const std::vector<std::uint8_t>& tail,
+                       std::uint8_t plane_byte = 20, std::uint8_t base_plane = 20) {
     ByteWriter head;
-    for (std::uint8_t b : {std::uint8_t{1}, flags, std::uint8_t{1}, std::uint8_t{20}}) head.u8(b);
+    for (std::uint8_t b : {std::uint8_t{1}, flags, std::uint8_t{1}, plane_byte, base_plane}) head.u8(b);
     head.varint(12);
     head.varint(20);
     head.u64(std::bit_cast<std::uint64_t>(step));
@@ -316,6 +318,13 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
   CHECK(with_head(4, 1e-3, 1.0, {5}).status == Status::corrupt);   // 5 channels
   CHECK(with_head(4, 1e-3, 1.0, {1, 5}).status == Status::corrupt);  // a 5-component channel
   CHECK(with_head(8, 1e-3, 1.0, {}).status == Status::reserved_bits_set);
+  // The base plane (FORMAT.md §3): at most top_plane + 1, and at most 29 planes below it.
+  const DecodeResult above_top = with_head(0, 1e-3, 1.0, {}, 20, 21);
+  CHECK(above_top.status == Status::corrupt);
+  CHECK_THAT(above_top.message, Catch::Contains("base plane 21"));
+  CHECK(with_head(0, 1e-3, 1.0, {}, 31, 1).status == Status::corrupt);  // planes 1..30: 30
+  // 29 planes pass the header (the coefficient bytes, another stream's, may then fail on their own).
+  CHECK_THAT(with_head(0, 1e-3, 1.0, {}, 31, 2).message, !Catch::Contains("base plane"));
 }
 
 namespace {
@@ -335,42 +344,81 @@ std::vector<std::uint8_t> golden_stream(const std::string& name, const std::vect
 
 }  // namespace
 
-TEST_CASE("golden stream: format version 2 is frozen", "[codec][golden]") {
+TEST_CASE("golden stream: format version 3 is frozen", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field, Loop, 12 bits.
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);
   EncodeOptions options;
   options.precision_bits = 12;
   options.local_frames = false;  // flags 0
   const auto file = encode(mesh, options);
-  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v2.mlz", file);
+  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v3.mlz", file);
   CHECK(file == golden);
-  CHECK(golden[4] == 2);
+  CHECK(golden[4] == 3);
+  CHECK(inspect(golden).base_plane <= inspect(golden).top_plane);  // it has a base part (FORMAT.md §5.1)
   const DecodeResult a = decode(golden), b = decode(golden);
   REQUIRE(a.status == Status::ok);
   CHECK(a.mesh.positions == b.mesh.positions);
-  // The same input as the version-1 golden stream below, decoded at full rate within one
-  // finest quantization step, diagonal · 2^-12 (measured 0.55 of it): the two versions differ in
-  // how their coefficient bits are modelled only.
+  // The same input as the earlier versions' golden streams below, decoded at full rate within one
+  // finest quantization step, diagonal · 2^-12 (measured 0.55 of it): the versions differ in how
+  // their coefficient bits are coded only.
   CHECK(rms_error(a.mesh.positions, mesh.positions) < std::ldexp(1.0, -12) * bounding_box_diagonal(mesh.positions));
 }
 
-TEST_CASE("golden stream: a format version 1 stream is refused with unsupported_version", "[codec][golden]") {
-  // tests/golden/icosahedron_loop_L2_p12.mlz: the stream above as version 1 wrote it (kept as
-  // an artifact, never regenerated). Version 2 codes the coefficients with other contexts
-  // (FORMAT.md change log): decoding it as version 2 would give a wrong mesh, so it is refused.
-  std::ifstream in(std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/icosahedron_loop_L2_p12.mlz", std::ios::binary);
-  REQUIRE(in.good());
-  const std::vector<std::uint8_t> v1{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  REQUIRE(v1.size() > 8);
-  CHECK(v1[4] == 1);
-  const DecodeResult r = decode(v1);
-  CHECK(r.status == Status::unsupported_version);
-  CHECK(static_cast<int>(r.status) == 3);
-  CHECK(r.message.find("format version 1") != std::string::npos);
-  CHECK(r.message.find("re-encode") != std::string::npos);
-  // Every prefix past the file header is refused the same way (the version is checked first).
-  for (std::size_t n = 8; n <= v1.size(); n += 7)
-    CHECK(decode(std::span<const std::uint8_t>(v1.data(), n)).status == Status::unsupported_version);
+TEST_CASE("golden stream: streams of format versions 1 and 2 are refused with unsupported_version", "[codec][golden]") {
+  // The stream above as versions 1 and 2 wrote it (kept as artifacts, never regenerated): version
+  // 2 coded the coefficients with other contexts than 1, version 3 adds a header field and the
+  // base part (FORMAT.md change log). Decoding them as version 3 would give a wrong mesh.
+  for (const auto& [name, version] : {std::pair{"icosahedron_loop_L2_p12.mlz", 1}, std::pair{"icosahedron_loop_L2_p12_v2.mlz", 2}}) {
+    std::ifstream in(std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/" + name, std::ios::binary);
+    REQUIRE(in.good());
+    const std::vector<std::uint8_t> old{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    REQUIRE(old.size() > 8);
+    CHECK(old[4] == version);
+    const DecodeResult r = decode(old);
+    CHECK(r.status == Status::unsupported_version);
+    CHECK(static_cast<int>(r.status) == 3);
+    CHECK(r.message.find("format version " + std::to_string(version)) != std::string::npos);
+    CHECK(r.message.find("re-encode") != std::string::npos);
+    // Every prefix past the file header is refused the same way (the version is checked first).
+    for (std::size_t n = 8; n <= old.size(); n += 7)
+      CHECK(decode(std::span<const std::uint8_t>(old.data(), n)).status == Status::unsupported_version);
+  }
+}
+
+TEST_CASE("base part: the predicted top planes of the base cost fewer bits at every rate", "[codec][prefix]") {
+  // FORMAT.md §5.1. The same mesh, quantized alike, coded with the base's top planes predicted
+  // (the default) and with every plane of the base in the bit planes: the same mesh at full rate,
+  // a smaller file, and at each budget from just past the base part up a closer prefix.
+  const SemiRegularMesh mesh = bumpy(test::icosphere(3), 3);  // a 642-vertex base, 3 levels
+  EncodeOptions plain_options;
+  plain_options.predict_base = false;
+  const auto predicted = encode(mesh, {}), plain = encode(mesh, plain_options);
+  const StreamInfo info = inspect(predicted);
+  REQUIRE(info.base_plane <= info.top_plane);
+  CHECK(inspect(plain).base_plane == inspect(plain).top_plane + 1);
+  const DecodeResult full_predicted = decode(predicted), full_plain = decode(plain);
+  REQUIRE(full_predicted.status == Status::ok);
+  CHECK(full_predicted.mesh.positions == full_plain.mesh.positions);
+  std::printf("base part: %zu bytes with the base predicted, %zu without\n", predicted.size(), plain.size());
+  CHECK(predicted.size() < plain.size());
+  // The budgets: from the base part's end (the first budget whose decode has every base vertex)
+  // to a tenth of the file.
+  std::size_t start = 0;
+  for (std::size_t n = 64; n < predicted.size() && start == 0; n += 16) {
+    DecodeOptions o;
+    o.max_bytes = n;
+    const DecodeResult r = decode(predicted, o);
+    if (r.status == Status::ok && r.bit_plane < info.top_plane) start = n;
+  }
+  REQUIRE(start > 0);
+  for (std::size_t n = start; n < predicted.size() / 10 + start; n += (predicted.size() / 10) / 8) {
+    DecodeOptions o;
+    o.max_bytes = n;
+    const double e_predicted = rms_error(decode(predicted, o).mesh.positions, mesh.positions),
+                 e_plain = rms_error(decode(plain, o).mesh.positions, mesh.positions);
+    std::printf("  %5zu bytes: RMS error %.3e predicted, %.3e plain\n", n, e_predicted, e_plain);
+    CHECK(e_predicted < e_plain);
+  }
 }
 
 TEST_CASE("embedded-stream cost: a prefix is within 0.3 dB of a file encoded directly at that size", "[codec][prefix]") {

@@ -99,7 +99,8 @@ void require_valid_outcome(const DecodeResult& r) {
 /// quantization parameters, followed by nothing else: about 20 bytes.
 std::vector<std::uint8_t> claiming(std::uint64_t base_vertices, std::uint64_t base_faces, std::uint8_t levels) {
   ByteWriter head;
-  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, levels, std::uint8_t{1}}) head.u8(b);
+  // scheme, flags, levels, top_plane + 1 = 1, base_plane = 1 (no base part)
+  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, levels, std::uint8_t{1}, std::uint8_t{1}}) head.u8(b);
   head.varint(base_vertices);
   head.varint(base_faces);
   ContainerWriter writer;
@@ -158,10 +159,10 @@ TEST_CASE("hostile: 1000 single-bit flips and 1000 byte replacements end in a me
   CHECK(counts[static_cast<int>(Status::bad_magic)] > 0);
 }
 
-TEST_CASE("hostile: a 33-byte file claiming 2^40 vertices is refused without a large allocation", "[codec][hostile]") {
-  // 17 bytes of container framing, 16 of HEAD (two 6-byte varints): the smallest such claim.
+TEST_CASE("hostile: a 34-byte file claiming 2^40 vertices is refused without a large allocation", "[codec][hostile]") {
+  // 17 bytes of container framing, 17 of HEAD (two 6-byte varints): the smallest such claim.
   const auto file = claiming(std::uint64_t{1} << 40, std::uint64_t{1} << 40, 4);
-  CHECK(file.size() == 33);
+  CHECK(file.size() == 34);
   DecodeResult r;
   const std::size_t peak = peak_allocation([&] { r = decode(file); });
   CHECK(r.status == Status::limit_exceeded);
@@ -173,7 +174,7 @@ TEST_CASE("hostile: a 33-byte file claiming 2^40 vertices is refused without a l
 
 TEST_CASE("hostile: a file claiming 200 levels is refused without a large allocation", "[codec][hostile]") {
   const auto file = claiming(12, 20, 200);
-  CHECK(file.size() == 23);
+  CHECK(file.size() == 24);
   DecodeResult r;
   const std::size_t peak = peak_allocation([&] { r = decode(file); });
   CHECK(r.status == Status::limit_exceeded);
@@ -184,7 +185,7 @@ TEST_CASE("hostile: a file claiming 200 levels is refused without a large alloca
 TEST_CASE("hostile: a base chunk too short for its declared faces is refused before decoding it", "[codec][hostile]") {
   // 2^22 base vertices and 2^23 faces are within the default caps, but 100 bytes cannot code them.
   ByteWriter head;
-  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, std::uint8_t{0}, std::uint8_t{1}}) head.u8(b);
+  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, std::uint8_t{0}, std::uint8_t{1}, std::uint8_t{1}}) head.u8(b);
   head.varint(std::uint64_t{1} << 22);
   head.varint(std::uint64_t{1} << 23);
   for (int i = 0; i < 5; ++i) head.u64(std::bit_cast<std::uint64_t>(1.0));

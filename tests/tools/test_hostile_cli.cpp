@@ -71,7 +71,8 @@ std::string read_text(const std::string& path) {
 /// parameters only when `complete`), and nothing else.
 std::vector<std::uint8_t> claiming(std::uint64_t base_vertices, std::uint64_t base_faces, std::uint8_t levels) {
   meshlift::ByteWriter head;
-  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, levels, std::uint8_t{1}}) head.u8(b);
+  // scheme, flags, levels, top_plane + 1 = 1, base_plane = 1 (no base part)
+  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, levels, std::uint8_t{1}, std::uint8_t{1}}) head.u8(b);
   head.varint(base_vertices);
   head.varint(base_faces);
   meshlift::ContainerWriter writer;

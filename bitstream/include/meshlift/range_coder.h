@@ -3,7 +3,8 @@
 // decodes to a prefix of the encoded symbols. Knows bits only; the exact arithmetic is specified
 // as decoder pseudo-code in bitstream/FORMAT.md §7, and the two classes below mirror it.
 //
-// Choices (frozen by format version 2; version 1 had kCountMax = 63 and no per-model count_max):
+// Choices (frozen by format version 2, unchanged in 3; version 1 had kCountMax = 63 and no
+// per-model count_max):
 //  - probabilities are 15-bit (kProbOne = 2^15) and held in [kProbMin, kProbMax] =
 //    [128, 32640], so one byte of normalization always restores range >= 2^24 and the
 //    cheapest bit costs log2(256/255) = 0.0056 bits;

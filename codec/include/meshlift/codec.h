@@ -28,6 +28,11 @@ struct EncodeOptions {
   /// Extra channels (SemiRegularMesh::channels) are quantized with a step of their value range
   /// (largest minus smallest value over all their components) times 2^-channel_precision_bits.
   int channel_precision_bits = 12;
+  /// Code the base coefficients' top planes first, predicted from their neighbours in the base
+  /// (FORMAT.md §5.1): fewer bits at every rate above the base part's. Off: every plane of the
+  /// base in the embedded bit planes, so the very first bytes already refine the whole base (for
+  /// rate-distortion experiments: docs/RESULTS.md measures the difference).
+  bool predict_base = true;
   /// Cut the embedded stream to at most this many bytes (whole file, headers included). Below
   /// the header and base mesh (the smallest stream that decodes), encode() throws MeshError.
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
@@ -81,6 +86,10 @@ struct DecodeResult {
   int level = 0;               ///< refinement level of `mesh`
   int levels = 0;              ///< levels in the stream
   int bit_plane = -1;          ///< lowest bit plane fully or partly decoded (-1: none)
+  /// Base vertices whose top planes (the base part, FORMAT.md §5.1) have arrived, in label order:
+  /// all of them once the bit planes begin. While fewer, the others sit at the centre (a viewer
+  /// may prefer to wait for all of them).
+  std::uint32_t base_vertices_decoded = 0;
   std::size_t bytes_used = 0;  ///< bytes of the input the mesh reflects
   bool complete = false;       ///< the whole stream was decoded
 };
@@ -134,6 +143,9 @@ struct StreamInfo {
   double step = 0;  ///< quantization step of the finest plane (normalized domain)
   std::vector<double> level_weights;  ///< w_j: level j's coefficients are known within step / w_j
   int top_plane = 0;
+  /// The base coefficients' planes base_plane..top_plane are coded first, predicted from their
+  /// neighbours (FORMAT.md §5.1); top_plane + 1: not at all.
+  int base_plane = 0;
   bool local_frames = false;
   int tangent_shift = 0;
   std::vector<ChannelQuantization> channels;

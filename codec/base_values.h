@@ -1,0 +1,51 @@
+// The base vertices' coefficients above the base plane (FORMAT.md §5.1, format version 3):
+// predicted from their neighbours in the base mesh and coded as integers, before the bit planes.
+//
+// Why: SPIHT codes a base coordinate one bit plane at a time from the top, as if nothing were
+// known of it; but a base vertex lies about an edge length from where its neighbours predict it
+// (a parallelogram across the face coded before it, as Touma-Gotsman and Draco predict), and its
+// coordinate is about the model's size from the centre. Coding the top planes of the base as the
+// residual of that prediction saves log2(size / edge) bits per coordinate (~3.4 bits on
+// armadillo's 813-vertex base: 2,060 of the 2,190 bytes the stream held down to plane 9 were the
+// base's; docs/RESULTS.md). The planes below the base plane stay in SPIHT's embedded order, so
+// the stream is embedded from the base plane on; above it, a prefix holds the base vertices
+// decoded so far (in label order) and zeros for the rest.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "meshlift/range_coder.h"
+#include "zerotree_coder.h"
+
+namespace meshlift::base_values {
+
+/// Largest number of planes the base part may cover (top_plane + 1 - base_plane): the high parts
+/// are then below 2^29 in magnitude and the residuals of the prediction below 2^31, which the
+/// unsigned integer coder holds.
+inline constexpr int kMaxPlanes = 29;
+
+/// The plane the encoder starts SPIHT at for the base vertices: the base part codes the planes
+/// [base_plane, top_plane] of every base coefficient. Chosen where the prediction has taken what
+/// it can: the step 2^base_plane about a quarter of the residuals' root mean square magnitude
+/// (finer, each plane costs a bit per coordinate either way; coarser, the prediction's gain is
+/// cut), within [max(0, top_plane + 1 - kMaxPlanes), top_plane + 1].
+int choose_base_plane(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices,
+                      const zerotree::Quantized& q, int top_plane);
+
+/// Codes the high parts sign * (magnitude >> base_plane) of the first `base_vertices` vertices'
+/// coefficients in q (vertex-major, q.components each), vertex by vertex in label order.
+/// Nothing is coded if base_plane > top_plane.
+void encode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices, const zerotree::Quantized& q,
+            int base_plane, int top_plane, RangeEncoder& encoder);
+
+/// Decodes them into `high` (base_vertices * components signed values, vertex-major; resized).
+/// Returns how many vertices were decoded whole: base_vertices, or fewer if the stream ended
+/// (their values, and those of every later vertex, are 0). `corrupt` is set for a value out of
+/// its range (|high| >= 2^(top_plane + 1 - base_plane)).
+std::uint32_t decode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices, int components,
+                     int base_plane, int top_plane, RangeDecoder& decoder, std::vector<std::int64_t>& high,
+                     bool& corrupt);
+
+}  // namespace meshlift::base_values
