@@ -110,7 +110,7 @@ int choose_base_plane(std::span<const std::uint32_t> base_triangles, std::uint32
       sum += r * r;
     }
   const double rms = std::sqrt(sum / static_cast<double>(value.size()));
-  const int plane = rms >= 8 ? static_cast<int>(std::floor(std::log2(rms / 4))) : 0;
+  const int plane = rms >= 2 ? static_cast<int>(std::floor(std::log2(rms / 2))) : 0;
   return std::clamp(plane, lowest_plane(top_plane), top_plane + 1);
 }
 

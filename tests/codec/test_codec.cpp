@@ -523,14 +523,20 @@ TEST_CASE("extra channels: every prefix decodes them and their error falls with 
     INFO("cut at " << cut);
     REQUIRE(r.status == Status::ok);
     REQUIRE(r.channels.size() == 2);
+    // The error is compared from the first cut that holds the whole base part (FORMAT.md §5.1):
+    // before, the base vertices arrive one by one and the others sit at the centre (here the
+    // first cut has none, every value at the centre, which for the colour is closer than the
+    // base part's coarsest planes: 0.37 against 0.47).
+    if (r.base_vertices_decoded < mesh.hierarchy.vertex_count(0)) continue;
     for (std::size_t c = 0; c < 2; ++c) {
       REQUIRE(r.channels[c].values.size() == mesh.channels[c].values.size());
       const double error = channel_rms(r.channels[c].values, mesh.channels[c].values);
       // 10 %, not the geometry's 5 % (test_prefixes.h): a channel has a few hundred coefficients
-      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more; 15 % for
-      // the colour (channel 1), whose step (z > 0) rises by 13 % at a 285-byte cut of format
-      // version 2's stream, in the coarse planes, before falling to half of it 111 bytes later.
-      const double slack[2] = {1.10, 1.15};
+      // here, so the one coefficient a cut leaves at its interval's midpoint weighs more. (Format
+      // version 2 needed 15 % for the colour, whose error rose by 13 % at a 285-byte cut in the
+      // coarse planes of its base; the base part now codes those planes before the first cut
+      // compared.)
+      const double slack[2] = {1.10, 1.10};
       CHECK(error <= previous[c] * slack[c] + 1e-12);
       previous[c] = std::min(previous[c], error);
     }
