@@ -277,8 +277,10 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
   StreamInfo info;
   ParsedStream stream;
   const DecodeResult r = parse(bytes, DecodeLimits{}, stream);
-  for (const Chunk& c : stream.container.chunks())
+  for (const Chunk& c : stream.container.chunks()) {
     info.chunks.push_back({tag_to_string(c.tag), c.offset, c.payload.size(), c.complete});
+    if (c.tag == kTagHeader || c.tag == kTagBaseMesh) info.header_and_connectivity_bytes += c.payload.size();
+  }
   info.status = r.status;
   info.message = r.message;
   if (r.status != Status::ok && stream.header.level_weights.empty()) return info;
@@ -302,6 +304,15 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
       try {
         info.vertices = static_cast<std::uint64_t>(
             refined_size(TriangleTopology::build(h.base_vertices, triangles), h.levels).vertices);
+        // The base part's length: decode it (a few symbols per base vertex).
+        RangeDecoder decoder(stream.coefficients);
+        std::vector<std::int64_t> high;
+        bool corrupt = false;
+        if (h.base_plane <= h.top_plane &&
+            base_values::decode(triangles, h.base_vertices, h.components(), h.base_plane, h.top_plane, decoder, high,
+                                corrupt) == h.base_vertices &&
+            !corrupt)
+          info.base_part_bytes = decoder.position();
       } catch (const MeshError&) {
       }
     }

@@ -129,14 +129,14 @@ int run_encode(const EncodeArgs& a) {
     return kOutputError;
   }
   const StreamInfo info = inspect(file);
-  std::size_t base_bytes = 0;
-  for (const auto& c : info.chunks)
-    if (c.tag == "HEAD" || c.tag == "BASE") base_bytes += c.size;
-  std::fprintf(stderr, "%s: %zu vertices, %d levels, %s -> %s: %zu bytes, %.3f bits/vertex (header + base connectivity %.1f %%), %.2f s\n",
+  const auto percent = [&](std::size_t n) { return 100.0 * static_cast<double>(n) / static_cast<double>(file.size()); };
+  std::fprintf(stderr,
+               "%s: %zu vertices, %d levels, %s -> %s: %zu bytes, %.3f bits/vertex (header + base connectivity %.1f %%, "
+               "base part %.1f %%), %.2f s\n",
                a.input.c_str(), vertices, mesh->hierarchy.levels(),
                (a.scheme == "auto" ? std::string("auto: ") + to_string(options.scheme) : a.scheme).c_str(), a.output.c_str(), file.size(),
                8.0 * static_cast<double>(file.size()) / static_cast<double>(vertices),
-               100.0 * static_cast<double>(base_bytes) / static_cast<double>(file.size()), seconds);
+               percent(info.header_and_connectivity_bytes), percent(info.base_part_bytes), seconds);
   return kOk;
 }
 

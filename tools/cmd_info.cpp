@@ -32,10 +32,11 @@ bool is_stream(const std::vector<std::uint8_t>& bytes) {
 
 int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>& bytes) {
   const StreamInfo info = inspect(bytes);
-  std::size_t base_bytes = 0;
-  for (const auto& c : info.chunks)
-    if (c.tag == "HEAD" || c.tag == "BASE") base_bytes += c.size;
-  const double share = bytes.empty() ? 0.0 : 100.0 * static_cast<double>(base_bytes) / static_cast<double>(bytes.size());
+  const std::size_t base_bytes = info.header_and_connectivity_bytes;
+  const auto percent = [&](std::size_t n) {
+    return bytes.empty() ? 0.0 : 100.0 * static_cast<double>(n) / static_cast<double>(bytes.size());
+  };
+  const double share = percent(base_bytes);
   if (options.json) {
     std::cout << "{\n  \"status\": \"" << to_string(info.status) << "\",\n  \"bytes\": " << bytes.size()
               << ",\n  \"scheme\": \"" << to_string(info.scheme) << "\",\n  \"mean_preserving_update\": "
@@ -48,7 +49,8 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
     for (std::size_t i = 0; i < info.channels.size(); ++i)
       std::cout << (i ? ", " : "") << "{\"components\": " << info.channels[i].components
                 << ", \"step\": " << info.channels[i].step << "}";
-    std::cout << "],\n  \"base_share_percent\": " << share << ",\n  \"chunks\": [";
+    std::cout << "],\n  \"base_share_percent\": " << share << ",\n  \"base_part_bytes\": " << info.base_part_bytes
+              << ",\n  \"chunks\": [";
     for (std::size_t i = 0; i < info.chunks.size(); ++i)
       std::cout << (i ? ", " : "") << "{\"tag\": \"" << info.chunks[i].tag << "\", \"offset\": " << info.chunks[i].offset
                 << ", \"size\": " << info.chunks[i].size << ", \"complete\": " << (info.chunks[i].complete ? "true" : "false")
@@ -69,7 +71,11 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
                                     : std::string("x, y, z"));
     for (const auto& c : info.channels)
       std::cout << "\n  channel:      " << c.components << " component(s), step " << c.step;
-    std::cout << "\n  header + base connectivity: " << base_bytes << " bytes (" << share << " % of the file)\n  chunks:\n";
+    std::cout << "\n  header + base connectivity: " << base_bytes << " bytes (" << share << " % of the file)";
+    if (info.base_part_bytes > 0)
+      std::cout << "\n  base part:    " << info.base_part_bytes << " bytes (" << percent(info.base_part_bytes)
+                << " % of the file: the base positions' top planes, FORMAT.md 5.1)";
+    std::cout << "\n  chunks:\n";
     for (const auto& c : info.chunks)
       std::cout << "    " << c.tag << " at " << c.offset << ": " << c.size << " bytes" << (c.complete ? "" : " (incomplete)")
                 << "\n";

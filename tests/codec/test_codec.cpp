@@ -401,16 +401,22 @@ TEST_CASE("base part: the predicted top planes of the base cost fewer bits at ev
   CHECK(full_predicted.mesh.positions == full_plain.mesh.positions);
   std::printf("base part: %zu bytes with the base predicted, %zu without\n", predicted.size(), plain.size());
   CHECK(predicted.size() < plain.size());
-  // The budgets: from the base part's end (the first budget whose decode has every base vertex)
-  // to a tenth of the file.
-  std::size_t start = 0;
-  for (std::size_t n = 64; n < predicted.size() && start == 0; n += 16) {
-    DecodeOptions o;
-    o.max_bytes = n;
-    const DecodeResult r = decode(predicted, o);
-    if (r.status == Status::ok && r.bit_plane < info.top_plane) start = n;
-  }
-  REQUIRE(start > 0);
+  // inspect() finds the base part's end: the first prefix that holds every base vertex.
+  REQUIRE(info.base_part_bytes > 0);
+  CHECK(inspect(plain).base_part_bytes == 0);
+  // The first COEF chunk's payload follows its tag and its length as a varint (FORMAT.md §2.1).
+  std::size_t payload = info.chunks[2].offset + 4 + 1;
+  for (std::size_t length = info.chunks[2].size; length >= 128; length >>= 7) ++payload;
+  const std::size_t start = payload + info.base_part_bytes;
+  DecodeOptions cut;
+  cut.max_bytes = start;
+  CHECK(decode(predicted, cut).base_vertices_decoded == mesh.hierarchy.vertex_count(0));
+  cut.max_bytes = start - 1;
+  const DecodeResult short_of_it = decode(predicted, cut);
+  CHECK(short_of_it.status == Status::ok);
+  CHECK(short_of_it.base_vertices_decoded < mesh.hierarchy.vertex_count(0));
+  CHECK(short_of_it.bit_plane == info.top_plane);  // no bit plane decision yet
+  // The budgets: from the base part's end to a tenth of the file past it.
   for (std::size_t n = start; n < predicted.size() / 10 + start; n += (predicted.size() / 10) / 8) {
     DecodeOptions o;
     o.max_bytes = n;

@@ -146,6 +146,12 @@ struct StreamInfo {
   /// The base coefficients' planes base_plane..top_plane are coded first, predicted from their
   /// neighbours (FORMAT.md §5.1); top_plane + 1: not at all.
   int base_plane = 0;
+  /// Bytes of the HEAD and BASE chunks (payloads: the header and the base connectivity).
+  std::size_t header_and_connectivity_bytes = 0;
+  /// Bytes of the coefficient stream the base part takes (the base positions' top planes),
+  /// to within the range decoder's 4 bytes of lookahead; 0 without a base part, or if the file
+  /// does not hold all of it.
+  std::size_t base_part_bytes = 0;
   bool local_frames = false;
   int tangent_shift = 0;
   std::vector<ChannelQuantization> channels;
