@@ -1062,14 +1062,23 @@ def loop_beta(n):
     return (5.0 / 8 - (3.0 / 8 + 0.25 * math.cos(2 * math.pi / n)) ** 2) / n
 
 
+def sum_products(row, values):
+    """Σ weight · value over a stencil row, left to right."""
+    total = 0.0
+    for (u, w) in row:
+        total += w * values[u]
+    return total
+
+
 class Stencils:
-    """The level j -> j + 1 rules as rows: predict rows (odd vertex -> [(vertex, weight)]) and,
-    for Loop, update rows (even vertex -> (scale, [(odd vertex, weight)]))."""
+    """The level j -> j + 1 rules (docs/WAVELETS.md, "Exact rules") as rows: `predict[e]` lists the
+    (vertex, weight) pairs edge e's odd vertex adds to its detail; `update_first` (mean-preserving
+    update, before the prediction) and `update_last` (Loop, after it) give each even vertex a
+    (scale, [(odd vertex, weight)]) row."""
 
     def __init__(self, level, scheme, with_update):
         V = level.vertex_count
-        self.is_loop = scheme == 'loop'
-        third = {}
+        third = {}   # third[(u, w)]: the third corner of the face with the directed edge u -> w
         for (a, b, c) in level.faces:
             third[(a, b)] = c
             third[(b, c)] = a
@@ -1082,7 +1091,7 @@ class Stencils:
             edge_of[(a, b)] = e
             edge_of[(b, a)] = e
         valence = [len(n) for n in neighbours]
-        # boundary_next[v]: the w with a boundary edge v -> w (its twin has no face); prev likewise
+        # boundary edges: one direction has no face
         on_boundary = [False] * V
         boundary_neighbours = [[] for _ in range(V)]
         for (a, b) in level.edges:
@@ -1106,18 +1115,19 @@ class Stencils:
                 row = self._butterfly_row(a, b, c, d, third, valence, on_boundary,
                                           boundary_neighbours)
             self.predict.append(row)
-        self.update = None
+        self.update_first = self.update_last = None
         if scheme == 'loop':
-            self.update = []
+            self.update_last = []
             for v in range(V):
                 if on_boundary[v]:
                     row = [(V + edge_of[(v, w)], 0.25) for w in boundary_neighbours[v]]
-                    self.update.append((0.5, row))
+                    self.update_last.append((0.5, row))
                 else:
                     n = valence[v]
                     w_n = 8 * loop_beta(n) / 5
                     s_n = 1 - n * w_n
-                    self.update.append((s_n, [(V + edge_of[(v, w)], w_n) for w in neighbours[v]]))
+                    self.update_last.append((s_n, [(V + edge_of[(v, w)], w_n)
+                                                   for w in neighbours[v]]))
         elif with_update:
             # mean-preserving update (seed 003 eq. 5.9): λ_ℓ = 1 / (2 (1 + c_ℓ)), c_ℓ the
             # predictor's column sum; synthesis: even -= λ_ℓ Σ adjacent details.
@@ -1125,10 +1135,11 @@ class Stencils:
             for row in self.predict:
                 for (u, w) in row:
                     column[u] += w
-            self.update = []
+            self.update_first = []
             for v in range(V):
                 lam = 1.0 / (2 * (1 + column[v]))
-                self.update.append((1.0, [(V + edge_of[(v, w)], -lam) for w in neighbours[v]]))
+                self.update_first.append((1.0, [(V + edge_of[(v, w)], -lam)
+                                                for w in neighbours[v]]))
 
     @staticmethod
     def _butterfly_row(a, b, c, d, third, valence, on_boundary, boundary_neighbours):
@@ -1168,25 +1179,21 @@ class Stencils:
     def synthesize(self, values, V):
         """One level j -> j + 1 for one component, in place: `values[V + e]` holds the detail of
         edge e on entry and the odd vertex's value on exit."""
-        if self.update is not None and not self.is_loop:
-            for v, (_, row) in enumerate(self.update):   # inverse update first
-                total = values[v]
-                for (u, w) in row:
-                    total += w * values[u]
-                values[v] = total
+        if self.update_first is not None:
+            self._update(self.update_first, values, V)
         for e, row in enumerate(self.predict):
             total = values[V + e]
             for (u, w) in row:
                 total += w * values[u]
             values[V + e] = total
-        if self.is_loop:
-            new_even = []
-            for v, (scale, row) in enumerate(self.update):
-                total = scale * values[v]
-                for (u, w) in row:
-                    total += w * values[u]
-                new_even.append(total)
-            values[:V] = new_even
+        if self.update_last is not None:
+            self._update(self.update_last, values, V)
+
+    @staticmethod
+    def _update(rows, values, V):
+        """Every even vertex from the odd values (rows read odd vertices only)."""
+        values[:V] = [scale * values[v] + sum_products(row, values)
+                      for v, (scale, row) in enumerate(rows)]
 
 
 def synthesize(h, levels, coef, target_level):
