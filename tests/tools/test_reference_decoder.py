@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """Checks tools/reference_decoder.py (written from FORMAT.md alone) against `meshlift decode`.
 
-    test_reference_decoder.py MESHLIFT STREAM.mlz... [--cuts=N] [--every-byte] [--truncate]
-                              [--damage]
+    test_reference_decoder.py MESHLIFT [STREAM.mlz...] [--generate] [--cuts=N] [--every-byte]
+                              [--truncate] [--damage]
 
+`--generate` adds streams made here with `meshlift subdivide` and `meshlift encode` from two small
+meshes with boundaries (a 5 x 5 grid whose interior vertices have valence 4 and 7, an open fan of
+four triangles), their finer vertices moved pseudo-randomly: butterfly with the
+mean-preserving update in local frames, Loop in x, y, z, linear in local frames.
 For each stream, and for prefixes of it (`--cuts=N`: N raw byte cuts spread over the file;
 `--every-byte`: all of them; `--truncate`: also the files `meshlift truncate` rewrites from those
 cuts; `--damage`: damaged copies, each chunk's checksum made right again where the damage is
@@ -18,6 +22,7 @@ stencil's terms in different orders (doubles, 1e-16 relative).
 Exit 0 when everything agrees, 1 otherwise; prints one line per disagreement and a summary.
 """
 
+import math
 import os
 import re
 import struct
@@ -145,6 +150,59 @@ def damaged_copies(data):
     ]
 
 
+def write_off(path, positions, faces):
+    with open(path, 'w') as out:
+        out.write('OFF\n%d %d 0\n' % (len(positions), len(faces)))
+        for p in positions:
+            out.write('%r %r %r\n' % tuple(p))
+        for f in faces:
+            out.write('3 %d %d %d\n' % tuple(f))
+
+
+def generate_streams(meshlift, workdir):
+    """Streams of meshes with boundaries and extraordinary vertices (the golden ones are closed
+    icosahedra), encoded by the current encoder."""
+    n = 4
+    grid = [(i + 0.3 * j, 0.9 * j, 0.1 * ((i * 7 + j * 3) % 5)) for j in range(n + 1)
+            for i in range(n + 1)]
+    grid_faces = []
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i
+            b, c, d = a + 1, a + n + 1, a + n + 2
+            grid_faces += [(a, b, d), (a, d, c)] if (i + j) % 3 == 0 else [(a, b, c), (b, d, c)]
+    fan = [(0.0, 0.0, 1.0)] + [(math.cos(2 * math.pi * k / 5), math.sin(2 * math.pi * k / 5),
+                                0.2 * (k % 3)) for k in range(5)]
+    fan_faces = [(0, k + 1, k + 2) for k in range(4)]
+    seed = 12345
+    streams = []
+    for (name, positions, faces, scheme, options) in (
+            ('grid', grid, grid_faces, 'butterfly', ['--update', '--frames', 'local']),
+            ('grid', grid, grid_faces, 'loop', ['--frames', 'xyz']),
+            ('fan', fan, fan_faces, 'linear', ['--frames', 'local'])):
+        base = os.path.join(workdir, name + '.off')
+        fine = os.path.join(workdir, name + '_fine.off')
+        write_off(base, positions, faces)
+        subprocess.run([meshlift, 'subdivide', base, '-o', fine, '--scheme', 'loop',
+                        '--levels', '2'], check=True, capture_output=True)
+        fine_positions, fine_faces = read_off(fine)
+        moved = []
+        for v, p in enumerate(fine_positions):
+            if v >= len(positions):   # vertices are in level order: keep the base as it is
+                offsets = []
+                for _ in range(3):
+                    seed = (seed * 1103515245 + 12345) % 2 ** 31
+                    offsets.append((seed / 2 ** 31 - 0.5) * 0.04)
+                p = tuple(x + o for x, o in zip(p, offsets))
+            moved.append(p)
+        write_off(fine, moved, fine_faces)
+        stream = os.path.join(workdir, '%s_%s.mlz' % (name, scheme))
+        subprocess.run([meshlift, 'encode', fine, '-o', stream, '--scheme', scheme, '--bits',
+                        '14'] + options, check=True, capture_output=True)
+        streams.append(stream)
+    return streams
+
+
 def cut_points(size, count, every_byte):
     if every_byte:
         return list(range(1, size + 1))
@@ -162,7 +220,7 @@ def main(argv):
     for a in argv:
         if a.startswith('--cuts='):
             cuts = int(a.split('=', 1)[1])
-    if len(args) < 2:
+    if len(args) < 1 or (len(args) < 2 and '--generate' not in argv):
         print(__doc__, file=sys.stderr)
         return 2
     meshlift, streams = args[0], args[1:]
@@ -170,6 +228,8 @@ def main(argv):
     largest = 0.0
     statuses = {}
     with tempfile.TemporaryDirectory() as workdir:
+        if '--generate' in argv:
+            streams += generate_streams(meshlift, workdir)
         for stream in streams:
             with open(stream, 'rb') as f:
                 data = f.read()
