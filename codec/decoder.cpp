@@ -121,6 +121,11 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
     return failure(Status::corrupt, "the base mesh connectivity in the BASE chunk at byte " +
                                         std::to_string(stream.base->offset) + " does not decode to " +
                                         std::to_string(header.base_faces) + " faces");
+  // Labels follow first use (§4), so the vertices no face uses are the last ones: none allowed.
+  if (const std::uint32_t used = 1 + *std::max_element(triangles.begin(), triangles.end()); used != header.base_vertices)
+    return failure(Status::corrupt, "the base mesh in the BASE chunk at byte " + std::to_string(stream.base->offset) +
+                                        " leaves " + std::to_string(header.base_vertices - used) + " of its " +
+                                        std::to_string(header.base_vertices) + " vertices on no face");
   TriangleTopology base;
   try {
     base = TriangleTopology::build(header.base_vertices, triangles);

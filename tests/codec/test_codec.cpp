@@ -294,10 +294,10 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
   ContainerReader reader;
   REQUIRE(reader.parse(valid) == Status::ok);
   auto with_head = [&](std::uint8_t flags, double step, double weight, const std::vector<std::uint8_t>& tail,
-                       std::uint8_t plane_byte = 20, std::uint8_t base_plane = 20) {
+                       std::uint8_t plane_byte = 20, std::uint8_t base_plane = 20, std::uint64_t base_vertices = 12) {
     ByteWriter head;
     for (std::uint8_t b : {std::uint8_t{1}, flags, std::uint8_t{1}, plane_byte, base_plane}) head.u8(b);
-    head.varint(12);
+    head.varint(base_vertices);
     head.varint(20);
     head.u64(std::bit_cast<std::uint64_t>(step));
     for (int i = 0; i < 3; ++i) head.u64(std::bit_cast<std::uint64_t>(0.0));
@@ -325,6 +325,10 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
   CHECK(with_head(0, 1e-3, 1.0, {}, 31, 1).status == Status::corrupt);  // planes 1..30: 30
   // 29 planes pass the header (the coefficient bytes, another stream's, may then fail on their own).
   CHECK_THAT(with_head(0, 1e-3, 1.0, {}, 31, 2).message, !Catch::Contains("base plane"));
+  // A base vertex no face uses (FORMAT.md §4): the icosahedron's 20 faces under a claim of 13.
+  const DecodeResult isolated = with_head(0, 1e-3, 1.0, {}, 20, 20, 13);
+  CHECK(isolated.status == Status::corrupt);
+  CHECK_THAT(isolated.message, Catch::Contains("leaves 1 of its 13 vertices on no face"));
 }
 
 namespace {
