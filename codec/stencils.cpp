@@ -56,8 +56,11 @@ class StepWriter {
       : recycled_(true) {
     step_.first_target = first_target;
     step_.indices = std::move(buffer);
-    if (step_.indices.size() < expected_entries + LiftingStep::kPadding)
-      step_.indices.resize(expected_entries + LiftingStep::kPadding);
+    const std::size_t needed = expected_entries + LiftingStep::kPadding;
+    if (step_.indices.capacity() < needed)
+      assign_large(step_.indices, needed);  // fresh storage: advised and made resident at once
+    else if (step_.indices.size() < needed)
+      step_.indices.resize(needed);
   }
 
   /// The pattern with exactly this scale and these weights (compared as values, as the rows that
