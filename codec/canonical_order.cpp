@@ -46,7 +46,9 @@ CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_
         old_vertex[h.odd_vertex(j, nt.face_edges[3 * k + i])] =
             old.odd_vertex(j, ot.face_edges[3 * face_map[k] + (i + turn[k]) % 3]);
     if (j + 1 == L) break;
-    std::vector<std::uint32_t> next_map(4 * face_map.size()), next_turn(4 * face_map.size());
+    std::vector<std::uint32_t> next_map, next_turn;
+    assign_large(next_map, 4 * face_map.size());
+    assign_large(next_turn, 4 * face_map.size());
     for (std::size_t k = 0; k < face_map.size(); ++k) {
       for (std::uint32_t i = 0; i < 3; ++i) {
         next_map[4 * k + i] = 4 * face_map[k] + (i + turn[k]) % 3;

@@ -73,7 +73,10 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
   }
   double* x = buffer.data();
   const std::uint32_t V_L = h.vertex_count(L);
-  std::vector<std::uint8_t> is_live(V_L, 0), is_near(V_L, 0), is_candidate(most_rows, 0);
+  std::vector<std::uint8_t> is_live, is_near, is_candidate;
+  assign_large(is_live, V_L);
+  assign_large(is_near, V_L);
+  assign_large(is_candidate, most_rows);
   std::vector<std::uint32_t> live, near, candidates;
   auto make_live = [&](std::uint32_t v) {
     if (!is_live[v]) is_live[v] = 1, live.push_back(v);

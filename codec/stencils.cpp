@@ -56,8 +56,11 @@ class StepWriter {
       : recycled_(true) {
     step_.first_target = first_target;
     step_.indices = std::move(buffer);
-    if (step_.indices.size() < expected_entries + LiftingStep::kPadding)
-      step_.indices.resize(expected_entries + LiftingStep::kPadding);
+    const std::size_t needed = expected_entries + LiftingStep::kPadding;
+    if (step_.indices.capacity() < needed)
+      assign_large(step_.indices, needed);  // fresh storage: advised and made resident at once
+    else if (step_.indices.size() < needed)
+      step_.indices.resize(needed);
   }
 
   /// The pattern with exactly this scale and these weights (compared as values, as the rows that
@@ -295,7 +298,9 @@ template <class Source, class RowPattern>
 void append_vertex_rows(StepWriter& step, const TriangleTopology& topology, std::uint32_t vertices,
                         bool boundary_rows_take_boundary_edges, Source&& source, RowPattern&& row_pattern) {
   const auto E = static_cast<std::uint32_t>(topology.edge_count());
-  std::vector<std::uint32_t> valence(vertices, 0), boundary_edges(vertices, 0);
+  std::vector<std::uint32_t> valence, boundary_edges;
+  assign_large(valence, vertices);
+  assign_large(boundary_edges, vertices);
   for (std::uint32_t e = 0; e < E; ++e) {
     const std::uint32_t a = topology.edge_vertices[2 * e], b = topology.edge_vertices[2 * e + 1];
     ++valence[a];
@@ -308,7 +313,8 @@ void append_vertex_rows(StepWriter& step, const TriangleTopology& topology, std:
   std::size_t entries = 0;
   for (std::uint32_t v = 0; v < vertices; ++v) entries += arity(v);
   step.reserve(entries);
-  std::vector<std::size_t> position(vertices);  // where v's next source goes (2E may pass 2^32)
+  std::vector<std::size_t> position;  // where v's next source goes (2E may pass 2^32)
+  assign_large(position, vertices);
   for (std::uint32_t v = 0; v < vertices; ++v) {
     const std::uint32_t n = arity(v);
     position[v] = step.entries();

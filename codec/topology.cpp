@@ -209,14 +209,14 @@ TriangleTopology TriangleTopology::refined() const {
 
 VertexEdges::VertexEdges(const TriangleTopology& topology) {
   const std::uint32_t V = topology.vertex_count;
-  offsets.assign(V + 1, 0);
-  boundary.assign(V, 0);
+  assign_large(offsets, std::size_t{V} + 1, 0u);
+  assign_large(boundary, V, std::uint8_t{0});
   for (std::size_t e = 0; e < topology.edge_count(); ++e) {
     ++offsets[topology.edge_vertices[2 * e] + 1];
     ++offsets[topology.edge_vertices[2 * e + 1] + 1];
   }
   for (std::uint32_t v = 0; v < V; ++v) offsets[v + 1] += offsets[v];
-  edges.resize(offsets[V]);
+  assign_large(edges, offsets[V], 0u);
   std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
   for (std::uint32_t e = 0; e < topology.edge_count(); ++e) {
     const std::uint32_t a = topology.edge_vertices[2 * e], b = topology.edge_vertices[2 * e + 1];
