@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An independent reference decoder for meshlift streams (.mlz), format version 2.
+"""An independent reference decoder for meshlift streams (.mlz), format version 3.
 
 Written from bitstream/FORMAT.md and docs/WAVELETS.md without the meshlift sources, to test the
 format document's claim that a stranger can write a compatible decoder; what those two documents
@@ -7,7 +7,8 @@ leave out came from public references they cite: XXH3 from xxHash 0.8's xxhash.h
 butterfly's extraordinary weights and boundary handling from OpenMesh's ModifiedButterFlyT, Loop's
 beta_n from Loop 1987 (as OpenMesh's LoopT has it). Standard library only (runs on Debian's
 /usr/bin/python3). Plain and slow on purpose: one function per section of the specification,
-each naming the section it implements.
+each naming the section it implements. (Written for version 2 by someone who had not seen the
+sources; the version-3 base part, §5.1, was added from the document by its author.)
 
     reference_decoder.py IN.mlz -o OUT.off|OUT.obj [--bytes N] [--level K]
 
