@@ -167,6 +167,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
                                       "invalid integer code");
     zerotree::Decoded decoded =
         zerotree::decode(zerotree::Forest(h), K, header.top_plane, header.base_plane, base_high, decoder);
+    base_high = std::vector<std::int64_t>();  // freed (the LSP holds what it gave)
 
     // Dequantize: value = midpoint * step_c / w_j (FORMAT.md §5).
     const int L = header.levels;
