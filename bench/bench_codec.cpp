@@ -232,8 +232,7 @@ int main(int argc, char** argv) {
     const zerotree::Forest forest(ordered.hierarchy);
     const StreamInfo info = inspect(file);
     const int top = info.top_plane, base_plane = info.base_plane;
-    const std::span<const std::uint32_t> base_triangles = ordered.hierarchy.triangles(0);
-    const std::uint32_t base_vertices = ordered.hierarchy.vertex_count(0);
+    const TriangleTopology& base = ordered.hierarchy.topology(0);
     auto coefficient_bytes = [&](std::size_t budget) {
       ContainerReader reader;
       std::vector<std::uint8_t> bytes;
@@ -249,8 +248,7 @@ int main(int argc, char** argv) {
         RangeDecoder decoder(bytes);
         std::vector<std::int64_t> base_high;
         bool corrupt = false;
-        base_values::decode(base_triangles, base_vertices, zerotree::kGeometryComponents, base_plane, top, decoder,
-                            base_high, corrupt);
+        base_values::decode(base, zerotree::kGeometryComponents, base_plane, top, decoder, base_high, corrupt);
         decoded = zerotree::decode(forest, zerotree::kGeometryComponents, top, base_plane, base_high, decoder);
       });
       const std::string what = "SPIHT decode " + std::to_string(8.0 * std::min(budget, file.size()) / V).substr(0, 4) + " bpv";
@@ -268,7 +266,7 @@ int main(int argc, char** argv) {
     std::vector<std::uint8_t> bytes;
     const Timing t = best_of(runs, [&] {
       RangeEncoder encoder;
-      base_values::encode(base_triangles, base_vertices, q, base_plane, top, encoder);
+      base_values::encode(base, q, base_plane, top, encoder);
       zerotree::encode(forest, q, top, base_plane, encoder);
       bytes = encoder.finish();
     });

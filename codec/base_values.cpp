@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "base_mesh_coder.h"
+#include "meshlift/mesh.h"
 
 namespace meshlift::base_values {
 
@@ -23,31 +23,24 @@ struct Recipe {
   std::uint32_t a = 0, b = 0, d = 0;
 };
 
-std::vector<Recipe> recipes(std::span<const std::uint32_t> triangles, std::uint32_t vertices) {
-  constexpr std::uint32_t kNone = 0xffffffffu;
-  const auto F = static_cast<std::uint32_t>(triangles.size() / 3);
-  std::vector<std::uint32_t> first_face(vertices, kNone), first_corner(vertices, 0);
-  std::unordered_map<std::uint64_t, std::uint32_t> first_face_of_edge;  // undirected edge -> first face
-  first_face_of_edge.reserve(triangles.size());
-  for (std::uint32_t f = 0; f < F; ++f)
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t u = triangles[3 * f + i], w = triangles[3 * f + (i + 1) % 3];
-      if (u < vertices && first_face[u] == kNone) first_face[u] = f, first_corner[u] = i;
-      first_face_of_edge.try_emplace(std::uint64_t{std::min(u, w)} << 32 | std::max(u, w), f);
-    }
-  std::vector<Recipe> out(vertices);
-  for (std::uint32_t v = 0; v < vertices; ++v) {
+std::vector<Recipe> recipes(const TriangleTopology& base) {
+  const std::uint32_t V = base.vertex_count;
+  std::vector<std::uint32_t> first_face(V, kNone), first_corner(V, 0);
+  for (std::uint32_t f = 0; f < base.face_count(); ++f)
+    for (std::uint32_t i = 0; i < 3; ++i)
+      if (const std::uint32_t u = base.triangles[3 * f + i]; first_face[u] == kNone) first_face[u] = f, first_corner[u] = i;
+  std::vector<Recipe> out(V);
+  for (std::uint32_t v = 0; v < V; ++v) {
     Recipe& r = out[v];
     if (first_face[v] != kNone) {
       const std::uint32_t f = first_face[v], i = first_corner[v];
-      const std::uint32_t x = triangles[3 * f + (i + 1) % 3], y = triangles[3 * f + (i + 2) % 3];
+      const std::uint32_t x = base.triangles[3 * f + (i + 1) % 3], y = base.triangles[3 * f + (i + 2) % 3];
       if (x < v && y < v) {
-        const std::uint32_t g = first_face_of_edge.at(std::uint64_t{std::min(x, y)} << 32 | std::max(x, y));
-        r = {Kind::midpoint, x, y, 0};
-        if (g < f) {
-          const std::uint32_t* t = &triangles[3 * g];
-          r = {Kind::parallelogram, x, y, t[0] + t[1] + t[2] - x - y};  // its corner that is not x or y
-        }
+        // The face across x -> y: the first face with both is f or it, whichever comes first.
+        const std::uint32_t e = base.face_edges[3 * f + (i + 1) % 3];
+        const std::uint32_t across = base.edge_faces[2 * e] == f ? base.edge_faces[2 * e + 1] : base.edge_faces[2 * e];
+        r = across != kNone && across < f ? Recipe{Kind::parallelogram, x, y, base.opposite_vertex(across, e)}
+                                          : Recipe{Kind::midpoint, x, y, 0};
         continue;
       }
       if (x < v || y < v) {
@@ -97,10 +90,10 @@ struct Models {
 
 }  // namespace
 
-int choose_base_plane(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices,
-                      const zerotree::Quantized& q, int top_plane) {
+int choose_base_plane(const TriangleTopology& base, const zerotree::Quantized& q, int top_plane) {
+  const std::uint32_t base_vertices = base.vertex_count;
   if (top_plane < 0 || base_vertices == 0) return top_plane + 1;
-  const std::vector<Recipe> recipe = recipes(base_triangles, base_vertices);
+  const std::vector<Recipe> recipe = recipes(base);
   const std::vector<std::int64_t> value = high_parts(q, base_vertices, 0);
   const auto k = static_cast<std::size_t>(q.components);
   double sum = 0;
@@ -114,10 +107,11 @@ int choose_base_plane(std::span<const std::uint32_t> base_triangles, std::uint32
   return std::clamp(plane, lowest_plane(top_plane), top_plane + 1);
 }
 
-void encode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices, const zerotree::Quantized& q,
-            int base_plane, int top_plane, RangeEncoder& encoder) {
+void encode(const TriangleTopology& base, const zerotree::Quantized& q, int base_plane, int top_plane,
+            RangeEncoder& encoder) {
   if (base_plane > top_plane) return;
-  const std::vector<Recipe> recipe = recipes(base_triangles, base_vertices);
+  const std::uint32_t base_vertices = base.vertex_count;
+  const std::vector<Recipe> recipe = recipes(base);
   const std::vector<std::int64_t> high = high_parts(q, base_vertices, base_plane);
   const auto k = static_cast<std::size_t>(q.components);
   Models m(k);
@@ -129,14 +123,14 @@ void encode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_ve
     }
 }
 
-std::uint32_t decode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices, int components,
-                     int base_plane, int top_plane, RangeDecoder& decoder, std::vector<std::int64_t>& high,
-                     bool& corrupt) {
+std::uint32_t decode(const TriangleTopology& base, int components, int base_plane, int top_plane, RangeDecoder& decoder,
+                     std::vector<std::int64_t>& high, bool& corrupt) {
+  const std::uint32_t base_vertices = base.vertex_count;
   const auto k = static_cast<std::size_t>(components);
   corrupt = false;
   high.assign(std::size_t{base_vertices} * k, 0);
   if (base_plane > top_plane) return base_vertices;
-  const std::vector<Recipe> recipe = recipes(base_triangles, base_vertices);
+  const std::vector<Recipe> recipe = recipes(base);
   const std::int64_t bound = std::int64_t{1} << (top_plane + 1 - base_plane);  // |high| < bound
   Models m(k);
   for (std::uint32_t v = 0; v < base_vertices; ++v)

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "meshlift/range_coder.h"
+#include "meshlift/topology.h"
 #include "zerotree_coder.h"
 
 namespace meshlift::base_values {
@@ -34,21 +35,20 @@ inline constexpr int kMaxPlanes = 29;
 /// whole) grows; coarser, the prediction's gain is cut. Measured (docs/RESULTS.md): a quarter or
 /// an eighth of the RMS give the same BD-rate over 55-75 dB, the whole RMS 0.3 points less, and
 /// the coarser the step the better the prefixes below 1 bit per input vertex.
-int choose_base_plane(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices,
-                      const zerotree::Quantized& q, int top_plane);
+int choose_base_plane(const TriangleTopology& base, const zerotree::Quantized& q, int top_plane);
 
-/// Codes the high parts sign * (magnitude >> base_plane) of the first `base_vertices` vertices'
-/// coefficients in q (vertex-major, q.components each), vertex by vertex in label order.
-/// Nothing is coded if base_plane > top_plane.
-void encode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices, const zerotree::Quantized& q,
-            int base_plane, int top_plane, RangeEncoder& encoder);
+/// Codes the high parts sign * (magnitude >> base_plane) of the base vertices' coefficients in q
+/// (the first base.vertex_count vertices, vertex-major, q.components each), vertex by vertex in
+/// label order. `base` is the base mesh in stream order (§4). Nothing is coded if
+/// base_plane > top_plane.
+void encode(const TriangleTopology& base, const zerotree::Quantized& q, int base_plane, int top_plane,
+            RangeEncoder& encoder);
 
-/// Decodes them into `high` (base_vertices * components signed values, vertex-major; resized).
+/// Decodes them into `high` (base.vertex_count * components signed values, vertex-major; resized).
 /// Returns how many vertices were decoded whole: base_vertices, or fewer if the stream ended
 /// (their values, and those of every later vertex, are 0). `corrupt` is set for a value out of
 /// its range (|high| >= 2^(top_plane + 1 - base_plane)).
-std::uint32_t decode(std::span<const std::uint32_t> base_triangles, std::uint32_t base_vertices, int components,
-                     int base_plane, int top_plane, RangeDecoder& decoder, std::vector<std::int64_t>& high,
-                     bool& corrupt);
+std::uint32_t decode(const TriangleTopology& base, int components, int base_plane, int top_plane, RangeDecoder& decoder,
+                     std::vector<std::int64_t>& high, bool& corrupt);
 
 }  // namespace meshlift::base_values

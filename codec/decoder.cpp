@@ -160,8 +160,8 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
     RangeDecoder decoder(stream.coefficients);
     std::vector<std::int64_t> base_high;
     bool base_corrupt = false;
-    const std::uint32_t base_decoded = base_values::decode(h.triangles(0), header.base_vertices, K, header.base_plane,
-                                                           header.top_plane, decoder, base_high, base_corrupt);
+    const std::uint32_t base_decoded =
+        base_values::decode(h.topology(0), K, header.base_plane, header.top_plane, decoder, base_high, base_corrupt);
     if (base_corrupt)
       return failure(Status::corrupt, "the base part of the coefficient stream holds a value out of range, or an "
                                       "invalid integer code");
@@ -308,15 +308,15 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
     std::vector<std::uint32_t> triangles;
     if (base_mesh::decode_faces(stream.base->payload, h.base_vertices, h.base_faces, triangles)) {
       try {
-        info.vertices = static_cast<std::uint64_t>(
-            refined_size(TriangleTopology::build(h.base_vertices, triangles), h.levels).vertices);
+        const TriangleTopology base = TriangleTopology::build(h.base_vertices, triangles);
+        info.vertices = static_cast<std::uint64_t>(refined_size(base, h.levels).vertices);
         // The base part's length: decode it (a few symbols per base vertex).
         RangeDecoder decoder(stream.coefficients);
         std::vector<std::int64_t> high;
         bool corrupt = false;
         if (h.base_plane <= h.top_plane &&
-            base_values::decode(triangles, h.base_vertices, h.components(), h.base_plane, h.top_plane, decoder, high,
-                                corrupt) == h.base_vertices &&
+            base_values::decode(base, h.components(), h.base_plane, h.top_plane, decoder, high, corrupt) ==
+                h.base_vertices &&
             !corrupt)
           info.base_part_bytes = decoder.position();
       } catch (const MeshError&) {

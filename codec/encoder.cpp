@@ -339,12 +339,12 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
                     std::to_string(L) + " levels; use fewer bits");
   header.top_plane = zerotree::top_plane(q);
   header.base_plane = options.predict_base
-                          ? base_values::choose_base_plane(h.triangles(0), h.vertex_count(0), q, header.top_plane)
+                          ? base_values::choose_base_plane(h.topology(0), q, header.top_plane)
                           : header.top_plane + 1;
 
   // The base part, then the bit planes (FORMAT.md §5).
   RangeEncoder coefficient_encoder;
-  base_values::encode(h.triangles(0), h.vertex_count(0), q, header.base_plane, header.top_plane, coefficient_encoder);
+  base_values::encode(h.topology(0), q, header.base_plane, header.top_plane, coefficient_encoder);
   zerotree::encode(zerotree::Forest(h), q, header.top_plane, header.base_plane, coefficient_encoder);
   const std::vector<std::uint8_t> coefficients = coefficient_encoder.finish();
 

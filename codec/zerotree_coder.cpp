@@ -225,9 +225,9 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
   // Base part (FORMAT.md §5.2): the base coefficients with bits at planes >= base_plane start in
   // the LSP, in vertex order, significant (their state set), known down to base_plane; the
   // others in the LIP, in front of every child that joins it. Both are left out of the passes
-  // above base_plane (the first base_lip LIP and base_lsp LSP entries are skipped there).
+  // above base_plane (the first base_lip LIP and lsp.preset LSP entries are skipped there).
   const bool base_part = base_plane <= top;
-  std::vector<std::size_t> base_lip(static_cast<std::size_t>(components)), base_lsp(base_lip.size());
+  std::vector<std::size_t> base_lip(static_cast<std::size_t>(components));
   auto high_part = [&](std::uint32_t v, int c) -> std::int64_t {
     if (!base_part) return 0;
     if constexpr (kEncoder) return io.magnitude(v, c) >> base_plane;
@@ -249,7 +249,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
           kEncoder ? io.magnitude(v, c) : static_cast<std::uint32_t>((high < 0 ? -high : high) << base_plane);
       ++lsp.size;
     }
-    lsp.preset = base_lsp[static_cast<std::size_t>(c)] = lsp.size;
+    lsp.preset = lsp.size;
     for (std::uint32_t v = 0; v < f.roots; ++v) {
       if (high_part(v, c) != 0) continue;
       l.lip_vertex[l.lip_size] = v;
@@ -425,7 +425,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
       // Refinement pass: bit n of each magnitude (the decoder ORs it in; for the encoder, whose
       // magnitude already has it, that changes nothing).
       const std::size_t refine_count = l.lsp.refine_count;
-      for (std::size_t i = above_base ? base_lsp[static_cast<std::size_t>(c)] : 0; i < refine_count; ++i) {
+      for (std::size_t i = above_base ? l.lsp.preset : 0; i < refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
         const int b = io.bit(models.refine[lsp_tag[i] & kLevelMask][c], kEncoder && (magnitude & bit_n) != 0);
         if (b < 0) {

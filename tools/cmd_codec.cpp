@@ -20,8 +20,7 @@ namespace meshlift::cli {
 namespace {
 
 /// ", base part 312 of 813 vertices" while a decode's base part (FORMAT.md §5.1) is incomplete.
-std::string base_part_note(const DecodeResult& r, const std::vector<std::uint8_t>& file) {
-  const std::uint64_t base_vertices = inspect(file).base_vertices;
+std::string base_part_note(const DecodeResult& r, std::uint64_t base_vertices) {
   if (r.base_vertices_decoded >= base_vertices) return "";
   return ", base part " + std::to_string(r.base_vertices_decoded) + " of " + std::to_string(base_vertices) + " vertices";
 }
@@ -180,7 +179,7 @@ int run_decode(const DecodeArgs& a) {
                  "%s: %zu of %zu bytes, level %d of %d, bit plane %d%s%s: %zu vertices, %zu faces; decode %.3f ms "
                  "(%.2f M vertices/s, file I/O excluded)\n",
                  a.input.c_str(), r.bytes_used, file.size(), r.level, r.levels, r.bit_plane,
-                 base_part_note(r, file).c_str(), r.complete ? " (complete)" : "", r.mesh.vertex_count(), r.mesh.face_count(), seconds * 1e3,
+                 base_part_note(r, inspect(file).base_vertices).c_str(), r.complete ? " (complete)" : "", r.mesh.vertex_count(), r.mesh.face_count(), seconds * 1e3,
                  static_cast<double>(r.mesh.vertex_count()) / seconds / 1e6);
   return kOk;
 }
@@ -251,6 +250,7 @@ int run_stream(const StreamArgs& a) {
   }
   // The CSV is collected and written once at the end, atomically like every other output.
   std::string csv = "bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n";
+  const std::uint64_t base_vertices = inspect(file).base_vertices;  // once, for the base part notes
   Decoder decoder;
   std::size_t written = 0;
   for (std::size_t at = 0; at < file.size();) {
@@ -279,7 +279,7 @@ int run_stream(const StreamArgs& a) {
     const double psnr = reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
                                                                      : std::numeric_limits<double>::quiet_NaN();
     std::fprintf(stderr, "%8zu bytes (%.3f bpv): %s (%zu vertices, bit plane %d%s%s)", at, bpv, name,
-                 r.mesh.vertex_count(), r.bit_plane, base_part_note(r, file).c_str(), r.complete ? ", complete" : "");
+                 r.mesh.vertex_count(), r.bit_plane, base_part_note(r, base_vertices).c_str(), r.complete ? ", complete" : "");
     if (!reference.empty()) std::fprintf(stderr, ", PSNR %.2f dB", psnr);
     std::fprintf(stderr, "\n");
     char row[128];
