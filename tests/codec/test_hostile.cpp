@@ -15,6 +15,7 @@
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "test_meshes.h"
+#include "test_streams.h"
 
 // ---- Allocation counter: every operator new of this test executable goes through here ----
 namespace {
@@ -95,19 +96,6 @@ void require_valid_outcome(const DecodeResult& r) {
   }
 }
 
-/// A stream whose HEAD claims `base_vertices`, `base_faces` and `levels`, padded with valid
-/// quantization parameters, followed by nothing else: about 20 bytes.
-std::vector<std::uint8_t> claiming(std::uint64_t base_vertices, std::uint64_t base_faces, std::uint8_t levels) {
-  ByteWriter head;
-  // scheme, flags, levels, top_plane + 1 = 1, base_plane = 1 (no base part)
-  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, levels, std::uint8_t{1}, std::uint8_t{1}}) head.u8(b);
-  head.varint(base_vertices);
-  head.varint(base_faces);
-  ContainerWriter writer;
-  writer.add_chunk(kTagHeader, head.data());
-  return writer.finish();
-}
-
 }  // namespace
 
 TEST_CASE("hostile: every-byte truncation of a real file gives a prefix mesh or truncated", "[codec][hostile]") {
@@ -161,7 +149,7 @@ TEST_CASE("hostile: 1000 single-bit flips and 1000 byte replacements end in a me
 
 TEST_CASE("hostile: a 34-byte file claiming 2^40 vertices is refused without a large allocation", "[codec][hostile]") {
   // 17 bytes of container framing, 17 of HEAD (two 6-byte varints): the smallest such claim.
-  const auto file = claiming(std::uint64_t{1} << 40, std::uint64_t{1} << 40, 4);
+  const auto file = test::claiming(std::uint64_t{1} << 40, std::uint64_t{1} << 40, 4);
   CHECK(file.size() == 34);
   DecodeResult r;
   const std::size_t peak = peak_allocation([&] { r = decode(file); });
@@ -173,7 +161,7 @@ TEST_CASE("hostile: a 34-byte file claiming 2^40 vertices is refused without a l
 }
 
 TEST_CASE("hostile: a file claiming 200 levels is refused without a large allocation", "[codec][hostile]") {
-  const auto file = claiming(12, 20, 200);
+  const auto file = test::claiming(12, 20, 200);
   CHECK(file.size() == 24);
   DecodeResult r;
   const std::size_t peak = peak_allocation([&] { r = decode(file); });

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "test_streams.h"
 #include "meshlift/byte_io.h"
 #include "meshlift/container.h"
 
@@ -67,27 +68,14 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
-/// A stream whose HEAD claims the given base counts and levels (plus valid quantization
-/// parameters only when `complete`), and nothing else.
-std::vector<std::uint8_t> claiming(std::uint64_t base_vertices, std::uint64_t base_faces, std::uint8_t levels) {
-  meshlift::ByteWriter head;
-  // scheme, flags, levels, top_plane + 1 = 1, base_plane = 1 (no base part)
-  for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, levels, std::uint8_t{1}, std::uint8_t{1}}) head.u8(b);
-  head.varint(base_vertices);
-  head.varint(base_faces);
-  meshlift::ContainerWriter writer;
-  writer.add_chunk(meshlift::kTagHeader, head.data());
-  return writer.finish();
-}
-
 const char* kTetrahedron = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
 }  // namespace
 
 TEST_CASE("CLI: hostile streams claiming 2^40 vertices or 200 levels are refused with exit 3", "[cli][hostile]") {
   Scratch s("claims");
-  const std::string huge = s.file("huge.mlz", claiming(std::uint64_t{1} << 40, std::uint64_t{1} << 40, 4));
-  const std::string deep = s.file("deep.mlz", claiming(12, 20, 200));
+  const std::string huge = s.file("huge.mlz", meshlift::test::claiming(std::uint64_t{1} << 40, std::uint64_t{1} << 40, 4));
+  const std::string deep = s.file("deep.mlz", meshlift::test::claiming(12, 20, 200));
   for (const std::string& command : {"decode " + huge + " -o " + s.path("out.off"), "info " + huge}) {
     const Run r = run_cli(command);
     INFO(command << "\n" << r.output);
