@@ -16,7 +16,7 @@ enum class Kind : std::uint8_t {
   zero,           // no earlier vertex: 0
   copy,           // a = the one corner labelled before v, or else v - 1
   midpoint,       // floor((a + b) / 2): x and y are older, but no earlier face has the edge xy
-  parallelogram,  // a + b - d: the earlier face (x, y, d) across the edge xy
+  parallelogram,  // a + b - d: the earlier face (x, y, d) across the edge xy (Touma, Gotsman 1998)
 };
 struct Recipe {
   Kind kind = Kind::zero;
