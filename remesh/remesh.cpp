@@ -297,8 +297,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   // Flipped faces where the input passes through itself (cow's tail through its body,
   // mannequin-devil's hands): counted apart, since no orientation agrees with both sheets.
+  std::optional<std::vector<std::array<std::uint32_t, 2>>> input_crossings;  // found once, when first needed
   auto note_crossings = [&](RemeshResult& result) {
-    const std::vector<std::array<std::uint32_t, 2>> crossings = self_intersections(mesh);
+    if (!input_crossings) input_crossings = self_intersections(mesh);
+    const std::vector<std::array<std::uint32_t, 2>>& crossings = *input_crossings;
     result.input_crossing_pairs = crossings.size();
     if (result.flipped_triangles == 0 || crossings.empty()) return;
     std::vector<std::uint8_t> crossing(mesh.face_count(), 0);
@@ -334,21 +336,31 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   RemeshResult result = [&] {
     if (options.base_vertices != 0 || options.density != 0)
-      return by_decimation(options.density != 0 ? options.density : kAutoDensities[1], 0, 1);
-    // Automatic density: the sparser remesh if it is close enough to the input and folds
-    // nowhere; else the closer of the two (turbine: 70.0 dB at 2x, 53.4 at 4x). Errors measured
-    // on 200,000 samples a side (±0.01 dB, METRIC.md).
+      return by_decimation(options.density, 0, 1);  // decimate_for() takes base_vertices first
+    // Automatic density: the sparsest remesh that is close enough to the input and folds
+    // nowhere (but where the input passes through itself), 2x, then 3x with a margin, else the
+    // closest of the three (turbine: 70.0 dB at 2x, 53.4 at 4x). Errors measured on 200,000
+    // samples a side (±0.01 dB, METRIC.md).
     auto psnr = [&](const RemeshResult& r) {
       StageClock clock(stages);
       const double db = remesh_psnr(mesh, r.mesh);
       clock.lap("choose density");
       return db;
     };
-    // The denser base is decimated alongside the sparser remesh (decimation is single-threaded
-    // and would leave the second core idle); it is used only if the sparser remesh falls short.
-    std::future<DecimateResult> dense_base =
+    // The 3x base is decimated alongside the 2x remesh (decimation is single-threaded and would
+    // leave the second core idle); it is used only if the 2x remesh falls short.
+    std::future<DecimateResult> middle_base =
         std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1]); });
-    auto fold_free = [](const RemeshResult& r) { return r.flipped_triangles == 0 && r.degenerate_triangles == 0; };
+    auto fold_free = [&](RemeshResult& r) {
+      if (r.flipped_triangles == 0) return r.degenerate_triangles == 0;
+      note_crossings(r);
+      return r.flipped_triangles == r.flipped_where_input_crosses && r.degenerate_triangles == 0;
+    };
+    // A decimation that stopped at or above a denser target gives the same base (cow stops at
+    // 193 vertices for all three).
+    auto same_base_as_denser = [&](const RemeshResult& r, double denser) {
+      return r.base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
+    };
     RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5);
     const double sparse_psnr = psnr(sparse);
     if (sparse_psnr >= options.auto_density_psnr && fold_free(sparse)) {
@@ -360,11 +372,21 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       }
       return sparse;
     }
-    // A decimation that stopped at or above the denser target would give the same base (cow
-    // stops at 193 vertices for both).
-    if (sparse.base_vertices >= automatic_remesh_base(mesh, options.levels, kAutoDensities[1])) return sparse;
-    RemeshResult dense = by_decimation(kAutoDensities[1], 0.5, 1, &dense_base);
-    return psnr(dense) >= sparse_psnr ? dense : sparse;
+    // The closest to the input so far, and the densest made so far.
+    RemeshResult* closest = &sparse;
+    double closest_psnr = sparse_psnr;
+    const RemeshResult* densest = &sparse;
+    std::optional<RemeshResult> middle;
+    if (!same_base_as_denser(sparse, kAutoDensities[1])) {
+      middle = by_decimation(kAutoDensities[1], 0.5, 0.75, &middle_base);
+      const double middle_psnr = psnr(*middle);
+      if (middle_psnr >= options.middle_density_psnr && fold_free(*middle)) return std::move(*middle);
+      if (middle_psnr >= closest_psnr) closest = &*middle, closest_psnr = middle_psnr;
+      densest = &*middle;
+    }
+    if (same_base_as_denser(*densest, kAutoDensities[2])) return std::move(*closest);
+    RemeshResult dense = by_decimation(kAutoDensities[2], 0.75, 1);
+    return psnr(dense) >= closest_psnr ? dense : std::move(*closest);
   }();
   result.stage_seconds = std::move(stages);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {

@@ -312,8 +312,8 @@ def same_remesh(rows, mesh, level, density):
     (remesh() skips its denser automatic try by the same rule). At L >= 4 it often does: the
     decimator cannot go below a few hundred vertices on some meshes (cow: 193).
     --density auto remeshes at 2x first and keeps that when its decimation stopped above 4x's base
-    size (remesh.cpp, kAutoDensities = {2, 4}): when D = 4's decimation stopped above its own
-    target, auto's remesh is that same one."""
+    size (remesh.cpp, kAutoDensities = {2, 3, 4}; 3x is skipped by the same rule): when D = 4's
+    decimation stopped above its own target, auto's remesh is that same one."""
     if density == "auto":
         for row in rows:
             if (row["mesh"] == mesh and row["levels"] == level and row["density"] == "4" and not row["error"]

@@ -172,12 +172,20 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   CHECK(sparsest.mesh.hierarchy.vertex_count(0) < sparse.mesh.hierarchy.vertex_count(0));
   options.auto_density_psnr = surface_distance(input, sparsest.mesh.finest(), metric).psnr_db() + 0.5;
   CHECK(remesh(input, options).density == 2);
-  // A threshold no 2x remesh reaches: the 4x one, identical to asking for density 4.
+  // A threshold no 2x remesh reaches: the 3x one when it reaches its own (identical to asking
+  // for density 3), else the 4x one (identical to asking for density 4).
   options.auto_density_psnr = 500;
+  options.middle_density_psnr = 60;
+  const RemeshResult middle = remesh(input, options);
+  CHECK(middle.density == 3);
+  CHECK(surface_distance(input, middle.mesh.finest(), metric).psnr_db() >= 60);
+  options.middle_density_psnr = surface_distance(input, middle.mesh.finest(), metric).psnr_db() + 0.5;
   const RemeshResult dense = remesh(input, options);
   CHECK(dense.density == 4);
   options.density = 4;
   CHECK(remesh(input, options).mesh.positions == dense.mesh.positions);
+  options.density = 3;
+  CHECK(remesh(input, options).mesh.positions == middle.mesh.positions);
   // A base size given: no density.
   options.density = 0;
   options.base_vertices = 100;

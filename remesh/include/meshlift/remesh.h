@@ -41,9 +41,11 @@ struct RemeshOptions {
   /// Base vertices; 0 chooses automatic_remesh_base() for `density`.
   std::size_t base_vertices = 0;
   /// Vertices of the remesh per input vertex that the automatic base size aims at, in [1, 1024],
-  /// or 0: automatic: the sparser of kAutoDensities if its remesh reaches auto_density_psnr
-  /// against the input (metric.h) and has no folded face, else the closer of the two; where the
-  /// sparser reaches sparsest_density_psnr, kSparsestAutoDensity if that one qualifies too. Measured (docs/RESULTS.md): 4x gives the
+  /// or 0: automatic: 2x if its remesh reaches auto_density_psnr against the input (metric.h)
+  /// and folds no face (but where the input passes through itself: no orientation faces both of
+  /// its sheets there); else 3x if that one reaches middle_density_psnr and folds none; else the
+  /// closest to the input of 2x, 3x and 4x. Where the 2x remesh reaches sparsest_density_psnr,
+  /// kSparsestAutoDensity if that one qualifies too. Measured (docs/RESULTS.md): 4x gives the
   /// closer remesh (about 4-9 dB above 2x where both work); 2x codes the 55-75 dB range in
   /// fewer bits (BD-rate against Draco: armadillo -70 % instead of -61 %, bear_bis -74 % instead
   /// of -64 %) but misses limbs on some meshes (camel 59 dB, elephant 49 dB at 2x).
@@ -53,6 +55,12 @@ struct RemeshOptions {
   /// When the 2x remesh reaches this (dB), the automatic density also makes the
   /// kSparsestAutoDensity one and keeps it if it reaches auto_density_psnr with no fold.
   double sparsest_density_psnr = 80;
+  /// Where the 2x remesh falls short, the automatic density keeps the 3x one if it reaches this
+  /// (dB) with no fold, before trying 4x. Above auto_density_psnr by a margin: a 3x remesh just
+  /// within 75 dB bends the codec's curve below 4x's at the top of 55-75 dB (homer, 75.3 dB:
+  /// BD-rate +8 %), one with a margin codes it in fewer bits (lion-head, 80.0 dB: -18 %; camel,
+  /// 81.8 dB: -6 %; docs/RESULTS.md).
+  double middle_density_psnr = 77;
   BaseFit fit = BaseFit::loop;
   /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
   /// 0 leaves every vertex on the input surface where the fitting stage placed it.
@@ -67,7 +75,7 @@ struct RemeshOptions {
 };
 
 /// The densities the automatic choice tries, sparser first.
-inline constexpr double kAutoDensities[] = {2, 4};
+inline constexpr double kAutoDensities[] = {2, 3, 4};
 /// The sparser density tried where the 2x remesh is far within the threshold (smooth meshes).
 inline constexpr double kSparsestAutoDensity = 1.5;
 
