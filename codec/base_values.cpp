@@ -27,7 +27,7 @@ struct Recipe {
 
 // v's parallelograms (Touma, Gotsman 1998): for every face (v, x, y) of v whose corners x, y are
 // labelled before v, the face across the edge x -> y if its third corner d is also labelled
-// before v; predicting v by the mean of all of them (Cohen-Or, Cohen, Irony 2002, "Multi-way
+// before v; predicting v by the mean of all of them (Cohen-Or, Cohen, Ironi 2002, "Multi-way
 // geometry encoding"; Draco's MeshPredictionSchemeMultiParallelogram) instead of the one across
 // the face that first reached v (format version 3) codes nine corpus bases in 5.6 % fewer bytes
 // (docs/RESULTS.md).
