@@ -69,7 +69,8 @@ Predictor predictor(const TriangleTopology& base) {
     if (first[v + 1] > first[v]) {
       r = {Kind::parallelograms, first[v], first[v + 1] - first[v]};
     } else if (first_face[v] != kNone) {
-      const auto [x, y, none] = parallelogram(first_face[v], first_corner[v]);
+      const auto corners = parallelogram(first_face[v], first_corner[v]);
+      const std::uint32_t x = corners[0], y = corners[1];
       r = x < v && y < v ? Recipe{Kind::midpoint, x, y}
           : x < v        ? Recipe{Kind::copy, x, 0}
           : y < v        ? Recipe{Kind::copy, y, 0}
@@ -95,9 +96,11 @@ std::int64_t predict(const Predictor& p, std::uint32_t v, const std::int64_t* hi
     case Kind::midpoint:
       return (high[k * r.a + c] + high[k * r.b + c]) >> 1;  // floor (an arithmetic shift, C++20)
     case Kind::parallelograms: {
-      // |high| < 2^29 and fewer than 2^24 faces: the sum stays below 2^55.
+      // |high| < 2^29 (kMaxPlanes), so each term is below 3 * 2^29 and fewer than 2^32 of them
+      // sum to less than 2^63.
       std::int64_t sum = 0;
-      for (const std::uint32_t* t = &p.corners[3 * std::size_t{r.a}]; t != &p.corners[3 * std::size_t{r.a + r.b}]; t += 3)
+      const std::uint32_t* t = p.corners.data() + 3 * std::size_t{r.a};
+      for (const std::uint32_t* end = t + 3 * std::size_t{r.b}; t != end; t += 3)
         sum += high[k * t[0] + c] + high[k * t[1] + c] - high[k * t[2] + c];
       return floor_divide(sum, r.b);
     }
