@@ -1,10 +1,10 @@
-// The base vertices' coefficients above the base plane (FORMAT.md §5.1, format version 3):
+// The base vertices' coefficients above the base plane (FORMAT.md §5.1, format version 4):
 // predicted from their neighbours in the base mesh and coded as integers, before the bit planes.
 //
 // Why: SPIHT codes a base coordinate one bit plane at a time from the top, as if nothing were
 // known of it; but a base vertex lies about an edge length from where its neighbours predict it
-// (a parallelogram across the face coded before it, as Touma-Gotsman and Draco predict), and its
-// coordinate is about the model's size from the centre. Coding the top planes of the base as the
+// (the mean of the parallelograms across its faces whose corners are decoded before it, as
+// Cohen-Or et al. and Draco's multi-parallelogram predict), and its coordinate is about the model's size from the centre. Coding the top planes of the base as the
 // residual of that prediction saves log2(size / edge) bits per coordinate (~3.4 bits on
 // armadillo's 813-vertex base: 2,060 of the 2,190 bytes the stream held down to plane 9 were the
 // base's; docs/RESULTS.md). The planes below the base plane stay in SPIHT's embedded order, so
@@ -36,6 +36,11 @@ inline constexpr int kMaxPlanes = 29;
 /// an eighth of the RMS give the same BD-rate over 55-75 dB, the whole RMS 0.3 points less, and
 /// the coarser the step the better the prefixes below 1 bit per input vertex.
 int choose_base_plane(const TriangleTopology& base, const zerotree::Quantized& q, int top_plane);
+
+/// The residuals the base part codes for the high parts `high` of the base vertices
+/// (base.vertex_count * components values, vertex-major): each value minus its prediction from the
+/// vertices labelled before it (FORMAT.md §5.1). Exposed for tests.
+std::vector<std::int64_t> residuals(const TriangleTopology& base, std::span<const std::int64_t> high, int components);
 
 /// Codes the high parts sign * (magnitude >> base_plane) of the base vertices' coefficients in q
 /// (the first base.vertex_count vertices, vertex-major, q.components each), vertex by vertex in

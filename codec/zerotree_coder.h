@@ -2,7 +2,7 @@
 // trees (SPIHT, Said & Pearlman 1996) over the semi-regular coefficient tree, as Progressive
 // Geometry Compression (Khodakovsky, Schroeder, Sweldens 2000) does, with every decision coded by
 // the adaptive binary range coder under a context (level, component, and what is known of the
-// vertex, its siblings and its parent: FORMAT.md §5.2, versions 2 and 3), after the base part
+// vertex, its siblings and its parent: FORMAT.md §5.2, versions 2 to 4), after the base part
 // (base_values.h) has coded the base vertices' top planes.
 // A vertex carries K components: its three geometry coefficients (x, y, z, or normal and two
 // tangents in local frames) and then those of any extra channels (FORMAT.md §5).

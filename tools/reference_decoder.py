@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An independent reference decoder for meshlift streams (.mlz), format version 3.
+"""An independent reference decoder for meshlift streams (.mlz), format version 4.
 
 Written from bitstream/FORMAT.md and docs/WAVELETS.md without the meshlift sources, to test the
 format document's claim that a stranger can write a compatible decoder; what those two documents
@@ -8,7 +8,8 @@ butterfly's extraordinary weights and boundary handling from OpenMesh's Modified
 beta_n from Loop 1987 (as OpenMesh's LoopT has it). Standard library only (runs on Debian's
 /usr/bin/python3). Plain and slow on purpose: one function per section of the specification,
 each naming the section it implements. (Written for version 2 by someone who had not seen the
-sources; the version-3 base part, §5.1, was added from the document by its author.)
+sources; the version-3 base part, §5.1, was added from the document by its author, the
+version-4 prediction (the mean of the parallelograms) from the new §5.1 by the author of that change.)
 
     reference_decoder.py IN.mlz -o OUT.off|OUT.obj [--bytes N] [--level K]
 
@@ -73,7 +74,7 @@ def read_varint(data, pos):
 # ---------------------------------------------------------------------------------------------
 
 MAGIC = b'MLZ\x1a'
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
 
 def read_file_header(data):
@@ -858,26 +859,39 @@ def coding_forest(levels):
 
 def base_predictions(faces, vertex_count):
     """§5.1 predict(v, c), as a recipe per base vertex: ('zero',), ('copy', a),
-    ('midpoint', x, y) or ('parallelogram', x, y, d), from the base faces in §4's order."""
+    ('midpoint', x, y) or ('parallelograms', [(x, y, d), ...]), from the base faces in §4's order."""
     first_face = {}          # vertex -> (face index, corner)
-    first_with_edge = {}     # undirected edge -> first face that has both corners
+    faces_with_edge = {}     # undirected edge -> the faces that have both its corners
+    corners_of = {}          # vertex -> [(face index, corner)] of every face with that corner
     for f, face in enumerate(faces):
         for i, v in enumerate(face):
             first_face.setdefault(v, (f, i))
+            corners_of.setdefault(v, []).append((f, i))
             w = face[(i + 1) % 3]
-            first_with_edge.setdefault((min(v, w), max(v, w)), f)
+            faces_with_edge.setdefault((min(v, w), max(v, w)), []).append(f)
+
+    def parallelogram(f, i):
+        v = faces[f][i]
+        x, y = faces[f][(i + 1) % 3], faces[f][(i + 2) % 3]
+        if x < v and y < v:
+            for g in faces_with_edge[(min(x, y), max(x, y))]:
+                if g != f:
+                    d = [u for u in faces[g] if u != x and u != y][0]
+                    if d < v:
+                        return (x, y, d)
+        return None
+
     recipes = []
     for v in range(vertex_count):
+        found = [p for p in (parallelogram(f, i) for (f, i) in corners_of.get(v, [])) if p]
+        if found:
+            recipes.append(('parallelograms', found))
+            continue
         if v in first_face:
             f, i = first_face[v]
             x, y = faces[f][(i + 1) % 3], faces[f][(i + 2) % 3]
             if x < v and y < v:
-                g = first_with_edge[(min(x, y), max(x, y))]
-                if g < f:
-                    d = [u for u in faces[g] if u != x and u != y][0]
-                    recipes.append(('parallelogram', x, y, d))
-                else:
-                    recipes.append(('midpoint', x, y))
+                recipes.append(('midpoint', x, y))
                 continue
             if x < v:
                 recipes.append(('copy', x))
@@ -898,7 +912,8 @@ def predict(recipe, high, c):
         return high[recipe[1]][c]
     if kind == 'midpoint':
         return (high[recipe[1]][c] + high[recipe[2]][c]) // 2
-    return high[recipe[1]][c] + high[recipe[2]][c] - high[recipe[3]][c]
+    found = recipe[1]
+    return sum(high[x][c] + high[y][c] - high[d][c] for (x, y, d) in found) // len(found)
 
 
 def decode_base_part(rc, h, faces):
@@ -939,7 +954,7 @@ class Coefficients:
 
 def decode_coefficients(stream, h, levels):
     """§5.1 the base part, then §5.2 the bit planes: SPIHT per component with the contexts of
-    versions 2 and 3; stops when the range decoder is exhausted (§7.6)."""
+    versions 2 to 4; stops when the range decoder is exhausted (§7.6)."""
     children, vertex_level = coding_forest(levels)
     L = h.levels
     K = h.components

@@ -311,7 +311,7 @@ TEST_CASE("range coder: probabilities stay in bounds and adapt on the documented
   CHECK(first.p == range_coder::kHalf + ((range_coder::kProbMax - range_coder::kHalf) >> 1));
 }
 
-TEST_CASE("range coder: golden stream of format versions 2 and 3", "[range_coder][golden]") {
+TEST_CASE("range coder: golden stream of format versions 2 to 4", "[range_coder][golden]") {
   // Frozen bytes: any change here is a format change (FORMAT.md §7, change log). The last 64
   // bits take m[1] past 31 updates, where version 1's slower schedule (kCountMax 63) gave
   // ... A4 D4 68 5E 28 D7 4C 03 C3 EE instead.

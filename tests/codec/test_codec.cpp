@@ -9,6 +9,7 @@
 #include <array>
 #include <bit>
 
+#include "../../codec/base_values.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "test_meshes.h"
@@ -348,16 +349,16 @@ std::vector<std::uint8_t> golden_stream(const std::string& name, const std::vect
 
 }  // namespace
 
-TEST_CASE("golden stream: format version 3 is frozen", "[codec][golden]") {
+TEST_CASE("golden stream: format version 4 is frozen", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field, Loop, 12 bits.
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);
   EncodeOptions options;
   options.precision_bits = 12;
   options.local_frames = false;  // flags 0
   const auto file = encode(mesh, options);
-  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v3.mlz", file);
+  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v4.mlz", file);
   CHECK(file == golden);
-  CHECK(golden[4] == 3);
+  CHECK(golden[4] == 4);
   CHECK(inspect(golden).base_plane <= inspect(golden).top_plane);  // it has a base part (FORMAT.md §5.1)
   const DecodeResult a = decode(golden), b = decode(golden);
   REQUIRE(a.status == Status::ok);
@@ -368,11 +369,13 @@ TEST_CASE("golden stream: format version 3 is frozen", "[codec][golden]") {
   CHECK(rms_error(a.mesh.positions, mesh.positions) < std::ldexp(1.0, -12) * bounding_box_diagonal(mesh.positions));
 }
 
-TEST_CASE("golden stream: streams of format versions 1 and 2 are refused with unsupported_version", "[codec][golden]") {
-  // The stream above as versions 1 and 2 wrote it (kept as artifacts, never regenerated): version
-  // 2 coded the coefficients with other contexts than 1, version 3 adds a header field and the
-  // base part (FORMAT.md change log). Decoding them as version 3 would give a wrong mesh.
-  for (const auto& [name, version] : {std::pair{"icosahedron_loop_L2_p12.mlz", 1}, std::pair{"icosahedron_loop_L2_p12_v2.mlz", 2}}) {
+TEST_CASE("golden stream: streams of format versions 1 to 3 are refused with unsupported_version", "[codec][golden]") {
+  // The stream above as versions 1 to 3 wrote it (kept as artifacts, never regenerated): version
+  // 2 coded the coefficients with other contexts than 1, version 3 added a header field and the
+  // base part, version 4 predicts the base part otherwise (FORMAT.md change log). Decoding them
+  // as version 4 would give a wrong mesh.
+  for (const auto& [name, version] : {std::pair{"icosahedron_loop_L2_p12.mlz", 1}, std::pair{"icosahedron_loop_L2_p12_v2.mlz", 2},
+                                      std::pair{"icosahedron_loop_L2_p12_v3.mlz", 3}}) {
     std::ifstream in(std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/" + name, std::ios::binary);
     REQUIRE(in.good());
     const std::vector<std::uint8_t> old{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -429,6 +432,39 @@ TEST_CASE("base part: the predicted top planes of the base cost fewer bits at ev
     std::printf("  %5zu bytes: RMS error %.3e predicted, %.3e plain\n", n, e_predicted, e_plain);
     CHECK(e_predicted < e_plain);
   }
+}
+
+TEST_CASE("base part: a vertex is predicted by the floor of the mean of all its parallelograms", "[codec]") {
+  // FORMAT.md §5.1 on a hand-made base of five vertices: faces (1,0,3), (2,1,3), (4,0,1), (4,1,2)
+  // (a disk, vertex 1 inside). Vertex 4 has two parallelograms, across the edges 0-1 and 1-2,
+  // both from vertex 3: P1 = h0 + h1 - h3 and P2 = h1 + h2 - h3. Its values are the mean
+  // floor((P1 + P2) / 2), so its residuals are 0 only if both parallelograms are used (with
+  // version 3's single P1 they would be -2 and 10) and the mean is rounded down (truncated, the
+  // first would be -1). The others: 0 from zero, 1 and 2 copy the earlier corner of their first
+  // face, 3 has no parallelogram (the faces across its edges hold 4) and takes the midpoint of
+  // 1 and 0.
+  const std::vector<std::uint32_t> faces = {1, 0, 3, 2, 1, 3, 4, 0, 1, 4, 1, 2};
+  const TriangleTopology base = TriangleTopology::build(5, faces);
+  // Two components: P1 = 0, P2 = -3, mean floor(-1.5) = -2; P1 = 25, P2 = 46, mean floor(35.5) = 35.
+  const std::vector<std::int64_t> high = {0, 10, 0, 20, -3, 31, 0, 5, -2, 35};
+  const std::vector<std::int64_t> expected = {0, 10, 0, 10, -3, 11, 0 - 0, 5 - 15, 0, 0};
+  CHECK(base_values::residuals(base, high, 2) == expected);
+  // The decoder predicts alike: the values come back through the coder.
+  zerotree::Quantized q;
+  q.components = 2;
+  q.size = high.size();
+  q.allocate(q.size);
+  for (std::size_t i = 0; i < high.size(); ++i)
+    q.coefficients[i] = {static_cast<std::uint32_t>(std::abs(high[i])), high[i] < 0, 0, 0};
+  RangeEncoder encoder;
+  base_values::encode(base, q, 0, 6, encoder);
+  const std::vector<std::uint8_t> bytes = encoder.finish();
+  RangeDecoder decoder(bytes);
+  std::vector<std::int64_t> decoded;
+  bool corrupt = true;
+  CHECK(base_values::decode(base, 2, 0, 6, decoder, decoded, corrupt) == 5);
+  CHECK_FALSE(corrupt);
+  CHECK(decoded == high);
 }
 
 TEST_CASE("embedded-stream cost: a prefix is within 0.3 dB of a file encoded directly at that size", "[codec][prefix]") {
