@@ -180,9 +180,15 @@ std::uint32_t decode(const TriangleTopology& base, int components, int base_plan
       int negative = 0;
       if (!m.magnitude[c].decode(decoder, magnitude) ||
           (magnitude != 0 && (negative = decoder.decode(m.negative[c]), decoder.exhausted()))) {
-        // Cut (or an invalid integer code): the vertices before v are whole.
+        // Cut (or an invalid integer code): the vertices before v are whole. The others take
+        // their prediction with a zero residual, in label order (FORMAT.md §5.1): a prefix shows
+        // the base's shape extrapolated from the vertices that came, not those at the centre.
+        // Clamped to the values' range, as a decoded value must be: predictions of predictions
+        // could otherwise grow without bound along the labels.
         corrupt = !decoder.exhausted();
-        std::fill(high.begin() + static_cast<std::ptrdiff_t>(k * v), high.end(), 0);
+        for (std::uint32_t u = v; u < base_vertices; ++u)
+          for (std::size_t d = 0; d < k; ++d)
+            high[k * u + d] = corrupt ? 0 : std::clamp(predict(p, u, high.data(), k, d), 1 - bound, bound - 1);
         return v;
       }
       const std::int64_t value = predict(p, v, high.data(), k, c) + (negative ? -std::int64_t{magnitude} : magnitude);

@@ -9,7 +9,7 @@
 // armadillo's 813-vertex base: 2,060 of the 2,190 bytes the stream held down to plane 9 were the
 // base's; docs/RESULTS.md). The planes below the base plane stay in SPIHT's embedded order, so
 // the stream is embedded from the base plane on; above it, a prefix holds the base vertices
-// decoded so far (in label order) and zeros for the rest.
+// decoded so far (in label order) and the predictions of the rest (with zero residuals).
 #pragma once
 
 #include <cstdint>
@@ -50,9 +50,10 @@ void encode(const TriangleTopology& base, const zerotree::Quantized& q, int base
             RangeEncoder& encoder);
 
 /// Decodes them into `high` (base.vertex_count * components signed values, vertex-major; resized).
-/// Returns how many vertices were decoded whole: base_vertices, or fewer if the stream ended
-/// (their values, and those of every later vertex, are 0). `corrupt` is set for a value out of
-/// its range (|high| >= 2^(top_plane + 1 - base_plane)).
+/// Returns how many vertices were decoded whole: base_vertices, or fewer if the stream ended:
+/// then every later vertex takes its prediction from those before it with a zero residual,
+/// clamped to |high| < 2^(top_plane + 1 - base_plane) (FORMAT.md §5.1). `corrupt` is set for a
+/// value out of that range or an invalid integer code (the values from that vertex on are 0).
 std::uint32_t decode(const TriangleTopology& base, int components, int base_plane, int top_plane, RangeDecoder& decoder,
                      std::vector<std::int64_t>& high, bool& corrupt);
 

@@ -917,8 +917,8 @@ def predict(recipe, high, c):
 
 
 def decode_base_part(rc, h, faces):
-    """§5.1: high[v][c] for every base vertex; a vertex cut short, and every later one, stays 0.
-    Returns (high, exhausted)."""
+    """§5.1: high[v][c] for every base vertex; a vertex cut short, and every later one, takes its
+    prediction with a zero residual. Returns (high, exhausted)."""
     V0, K = h.base_vertices, h.components
     high = [[0] * K for _ in range(V0)]
     if h.base_plane > h.top_plane:
@@ -937,6 +937,9 @@ def decode_base_part(rc, h, faces):
                 if not -bound < row[c] < bound:
                     raise DecodeError('corrupt', 'a base part value out of range')
         except Exhausted:
+            # A cut: this vertex and every later one take their prediction, clamped to the range.
+            for u in range(v, V0):
+                high[u] = [min(max(predict(recipes[u], high, c), 1 - bound), bound - 1) for c in range(K)]
             return high, True
         high[v] = row
     return high, False

@@ -434,6 +434,45 @@ TEST_CASE("base part: the predicted top planes of the base cost fewer bits at ev
   }
 }
 
+TEST_CASE("base part: a prefix that ends inside it shows the base extrapolated, not at the centre", "[codec][prefix]") {
+  // FORMAT.md §5.1: the base vertices not yet decoded take their prediction from those before
+  // them (zero residuals). Zeros would put them at the centre, the model's size away: with half
+  // the base decoded, an RMS error of ~0.7 of the base's distance from the centre; predicted, the
+  // missing half extrapolates the decoded one (flat, by parallelograms, on this sphere).
+  const SemiRegularMesh mesh = bumpy(test::icosphere(3), 3);  // a 642-vertex base, 3 levels
+  const auto bytes = encode(mesh, {});
+  const StreamInfo info = inspect(bytes);
+  REQUIRE(info.base_part_bytes > 8);
+  std::size_t payload = info.chunks[2].offset + 4 + 1;
+  for (std::size_t length = info.chunks[2].size; length >= 128; length >>= 7) ++payload;
+  const std::uint32_t base_vertices = mesh.hierarchy.vertex_count(0);
+  // The base vertices' RMS distance from the centre: the error of a prefix that left them there.
+  double from_centre = 0;
+  for (std::uint32_t v = 0; v < base_vertices; ++v)
+    for (int c = 0; c < 3; ++c) from_centre += mesh.positions[3 * v + c] * mesh.positions[3 * v + c];
+  from_centre = std::sqrt(from_centre / base_vertices);
+  auto base_error = [&](std::size_t n) {
+    DecodeOptions o;
+    o.max_bytes = n;
+    const DecodeResult r = decode(bytes, o);
+    REQUIRE(r.status == Status::ok);
+    CHECK(r.base_vertices_decoded < base_vertices);
+    double sum = 0;
+    for (std::uint32_t v = 0; v < base_vertices; ++v)
+      for (int c = 0; c < 3; ++c) {
+        const double d = r.mesh.positions[3 * v + c] - mesh.positions[3 * v + c];
+        sum += d * d;
+      }
+    return std::sqrt(sum / base_vertices);
+  };
+  const double half = base_error(payload + info.base_part_bytes / 2),
+               almost = base_error(payload + info.base_part_bytes - 1);
+  std::printf("base part cut: base RMS error %.3e at half, %.3e one byte short; %.3e from the centre\n", half,
+              almost, from_centre);
+  CHECK(half < 0.5 * from_centre);
+  CHECK(almost < 0.05 * from_centre);
+}
+
 TEST_CASE("base part: a vertex is predicted by the floor of the mean of all its parallelograms", "[codec]") {
   // FORMAT.md §5.1 on a hand-made base of five vertices: faces (1,0,3), (2,1,3), (4,0,1), (4,1,2)
   // (a disk, vertex 1 inside). Vertex 4 has two parallelograms, across the edges 0-1 and 1-2,
