@@ -609,8 +609,8 @@ TEST_CASE("extra channels: every prefix decodes them and their error falls with 
     REQUIRE(r.status == Status::ok);
     REQUIRE(r.channels.size() == 2);
     // The error is compared from the first cut that holds the whole base part (FORMAT.md §5.1):
-    // before, the base vertices arrive one by one and the others sit at the centre (here the
-    // first cut has none, every value at the centre, which for the colour is closer than the
+    // before, the base vertices arrive one by one and the others are extrapolated from them (here
+    // the first cut has none, every value at the centre, which for the colour is closer than the
     // base part's coarsest planes: 0.37 against 0.47).
     if (r.base_vertices_decoded < mesh.hierarchy.vertex_count(0)) continue;
     for (std::size_t c = 0; c < 2; ++c) {

@@ -87,8 +87,8 @@ struct DecodeResult {
   int levels = 0;              ///< levels in the stream
   int bit_plane = -1;          ///< lowest bit plane fully or partly decoded (-1: none)
   /// Base vertices whose top planes (the base part, FORMAT.md §5.1) have arrived, in label order:
-  /// all of them once the bit planes begin. While fewer, the others sit at the centre (a viewer
-  /// may prefer to wait for all of them).
+  /// all of them once the bit planes begin. While fewer, the others are extrapolated from them
+  /// (their predictions with zero residuals: a viewer may prefer to wait for all of them).
   std::uint32_t base_vertices_decoded = 0;
   std::size_t bytes_used = 0;  ///< bytes of the input the mesh reflects
   bool complete = false;       ///< the whole stream was decoded
