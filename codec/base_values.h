@@ -4,8 +4,9 @@
 // Why: SPIHT codes a base coordinate one bit plane at a time from the top, as if nothing were
 // known of it; but a base vertex lies about an edge length from where its neighbours predict it
 // (the mean of the parallelograms across its faces whose corners are decoded before it, as
-// Cohen-Or et al. and Draco's multi-parallelogram predict), and its coordinate is about the model's size from the centre. Coding the top planes of the base as the
-// residual of that prediction saves log2(size / edge) bits per coordinate (~3.4 bits on
+// Cohen-Or et al. and Draco's multi-parallelogram predict), and its coordinate is about the
+// model's size from the centre. Coding the top planes of the base as the residual of that
+// prediction saves log2(size / edge) bits per coordinate (~3.4 bits on
 // armadillo's 813-vertex base: 2,060 of the 2,190 bytes the stream held down to plane 9 were the
 // base's; docs/RESULTS.md). The planes below the base plane stay in SPIHT's embedded order, so
 // the stream is embedded from the base plane on; above it, a prefix holds the base vertices
