@@ -28,7 +28,8 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// Scaling level j's coefficients by it makes one quantization step cost the same squared error
 /// at every level.
 ///
-/// Each impulse is synthesized over its support only, which is a small part of the finest level:
+/// Each impulse above the base is synthesized over its support only, a small part of the finest
+/// level (the base vertex's, whose support is not small, by the whole synthesis: see below):
 /// a row of a lifting step whose target and sources are all zero gives +0 (its scale is positive),
 /// which is what an untouched zero holds, and zeros add nothing to the sum of squares; so
 /// computing exactly the rows that can be nonzero, each by the operations synthesize() applies
