@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <cmath>
-#include <cstdlib>
-#include <memory>
-#include <new>
+#include <cstring>
 
 #include "base_mesh_coder.h"
 #include "base_values.h"
@@ -30,7 +28,8 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// Scaling level j's coefficients by it makes one quantization step cost the same squared error
 /// at every level.
 ///
-/// Each impulse is synthesized over its support only, which is a small part of the finest level:
+/// Each impulse above the base is synthesized over its support only, a small part of the finest
+/// level (the base vertex's, whose support is not small, by the whole synthesis: see below):
 /// a row of a lifting step whose target and sources are all zero gives +0 (its scale is positive),
 /// which is what an untouched zero holds, and zeros add nothing to the sum of squares; so
 /// computing exactly the rows that can be nonzero, each by the operations synthesize() applies
@@ -52,10 +51,8 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
     std::vector<std::size_t> index;
   };
   std::vector<std::vector<RunStarts>> starts(static_cast<std::size_t>(L));
-  std::vector<VertexEdges> edges;
   std::size_t most_rows = 0;
   for (int i = 0; i < L; ++i) {
-    edges.emplace_back(h.topology(i));
     for (const LiftingStep& step : transform.steps(i)) {
       RunStarts r;
       std::uint32_t row = 0;
@@ -71,6 +68,42 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
       starts[static_cast<std::size_t>(i)].push_back(std::move(r));
     }
   }
+  // The edges of level i at its vertex w, without an incidence table per level (those cost more
+  // to build, ~30 MB, than these walks): from the base's incidence or the level where w is born,
+  // then down the 1:4 splits (topology.h, refined()): an even vertex keeps the half of each of its
+  // edges on its side (2e if it is edge e's first vertex, else 2e + 1); the odd vertex on edge e of
+  // a level has both halves of e and, in each face f of e where e is face edge k, the inner edges
+  // 2E + 3f + (k + 1) % 3 and 2E + 3f + (k + 2) % 3 (inner edge i joins the midpoints of face
+  // edges i + 1 and i + 2). Any order: the callers only mark.
+  const VertexEdges base_edges(h.topology(0));
+  auto for_each_edge_at = [&](int i, std::uint32_t w, auto&& f) {
+    int born = 0;
+    while (w >= h.vertex_count(born)) ++born;
+    // The halves of edge (a, b) are (a, m) and (m, b) (refined()): w stays on the same end of its
+    // edge's halves, so d splits take edge e to e 2^d (w first) or (e + 1) 2^d - 1 (w second).
+    auto descend = [&](std::uint32_t e) {
+      const int d = i - born;
+      if (d > 0) e = h.topology(born).edge_vertices[2 * e] == w ? e << d : ((e + 1) << d) - 1;
+      f(e);
+    };
+    if (born == 0) {
+      for (std::uint32_t a = base_edges.offsets[w]; a < base_edges.offsets[w + 1]; ++a) descend(base_edges.edges[a]);
+      return;
+    }
+    const TriangleTopology& coarse = h.topology(born - 1);
+    const std::uint32_t e = w - h.vertex_count(born - 1), E = static_cast<std::uint32_t>(coarse.edge_count());
+    descend(2 * e);
+    descend(2 * e + 1);
+    for (std::uint32_t side = 0; side < 2; ++side) {
+      const std::uint32_t face = coarse.edge_faces[2 * e + side];
+      if (face == kNone) continue;
+      for (std::uint32_t k = 0; k < 3; ++k)
+        if (coarse.face_edges[3 * face + k] == e) {
+          descend(2 * E + 3 * face + (k + 1) % 3);
+          descend(2 * E + 3 * face + (k + 2) % 3);
+        }
+    }
+  };
   double* x = buffer.data();
   const std::uint32_t V_L = h.vertex_count(L);
   std::vector<std::uint8_t> is_live, is_near, is_candidate;
@@ -82,10 +115,21 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
     if (!is_live[v]) is_live[v] = 1, live.push_back(v);
   };
   // Calls f(v) for the marked entries v of `marks` listed in `list`, in increasing order, clearing
-  // their marks: by a sweep over the marks when the list is long, else by sorting it.
+  // their marks: by a sweep over the marks when the list is long, else by sorting it. The sweep
+  // skips 8 clear marks per test, ~n / 8 steps against sorting's ~k log2 k for k entries: it wins
+  // down to lists of about n / 256 entries.
   auto in_order = [](std::vector<std::uint8_t>& marks, std::vector<std::uint32_t>& list, std::size_t n, auto&& f) {
-    if (list.size() * 32 > n) {
-      for (std::uint32_t v = 0; v < n; ++v)
+    if (list.size() * 256 > n) {
+      // Most marks are clear: 8 of them tested at once, the set ones then in order.
+      std::uint32_t v = 0;
+      for (; v + 8 <= n; v += 8) {
+        std::uint64_t word;
+        std::memcpy(&word, &marks[v], sizeof word);
+        if (word == 0) continue;
+        for (std::uint32_t u = v; u < v + 8; ++u)
+          if (marks[u]) marks[u] = 0, f(u);
+      }
+      for (; v < n; ++v)
         if (marks[v]) marks[v] = 0, f(v);
     } else {
       std::sort(list.begin(), list.end());
@@ -94,11 +138,25 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
     list.clear();
   };
   for (int j = 0; j <= L; ++j) {
-    const std::uint32_t begin = j == 0 ? 0 : h.vertex_count(j - 1);
+    if (j == 0) {
+      // A base vertex's support covers much of the finest level: there the whole synthesis, one
+      // channel, costs less than tracking the support (15-18 against 40-60 ms on the bench mesh,
+      // in a resident buffer). It gives the same bits: the rows outside the support compute +0 as
+      // said above, and their squares add nothing to the sum, taken in the same vertex order.
+      x[h.vertex_count(0) / 2] = 1.0;
+      transform.synthesize(buffer.first(V_L), 1);
+      double sum = 0.0;
+      for (std::uint32_t v = 0; v < V_L; ++v) {
+        sum += x[v] * x[v];
+        x[v] = 0.0;
+      }
+      weights[0] = std::sqrt(sum);
+      continue;
+    }
+    const std::uint32_t begin = h.vertex_count(j - 1);
     x[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
     make_live(begin + (h.vertex_count(j) - begin) / 2);
     for (int i = std::max(0, j - 1); i < L; ++i) {
-      const VertexEdges& ve = edges[static_cast<std::size_t>(i)];
       const TriangleTopology& t = h.topology(i);
       const std::uint32_t V = h.vertex_count(i), fine_V = h.vertex_count(i + 1);
       for (std::size_t s = 0; s < transform.steps(i).size(); ++s) {
@@ -119,14 +177,13 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
               continue;
             }
             make_near(u);
-            for (std::uint32_t a = ve.offsets[u]; a < ve.offsets[u + 1]; ++a) {
-              const std::uint32_t e = ve.edges[a];
+            for_each_edge_at(i, u, [&](std::uint32_t e) {
               make_near(t.edge_vertices[2 * e] == u ? t.edge_vertices[2 * e + 1] : t.edge_vertices[2 * e]);
-            }
+            });
           }
           for (const std::uint32_t w : near) {
             is_near[w] = 0;
-            for (std::uint32_t b = ve.offsets[w]; b < ve.offsets[w + 1]; ++b) candidate(V + ve.edges[b]);
+            for_each_edge_at(i, w, [&](std::uint32_t e) { candidate(V + e); });
           }
           near.clear();
         } else {  // update: targets are the even vertices
@@ -222,19 +279,28 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // Each value's extremes over all vertices (the bounding box and the channels' ranges), taken
   // as the values are gathered (min and max are exact: the order they see the values in does
   // not matter).
-  std::vector<double> lowest(k_stride, std::numeric_limits<double>::infinity()),
-      highest(k_stride, -std::numeric_limits<double>::infinity());
+  // The extremes in locals while gathering: in the vectors, every vertex's update would be
+  // stored and loaded back through memory (the compiler cannot tell them from `values`).
+  double lowest[3 + zerotree::kMaxChannelComponents], highest[3 + zerotree::kMaxChannelComponents];
+  std::fill_n(lowest, k_stride, std::numeric_limits<double>::infinity());
+  std::fill_n(highest, k_stride, -std::numeric_limits<double>::infinity());
   std::vector<double> values;
   reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
+  // One value at a time (push_back inlines; a 3-value insert per vertex is a memmove call).
   for (std::uint32_t v = 0; v < V; ++v) {
     const std::size_t old = old_vertex[v];
-    values.insert(values.end(), &input.positions[3 * old], &input.positions[3 * old] + 3);
+    std::size_t k = 0;
+    auto append = [&](double x) {
+      values.push_back(x);
+      lowest[k] = std::min(lowest[k], x);
+      highest[k] = std::max(highest[k], x);
+      ++k;
+    };
+    for (std::size_t i = 0; i < 3; ++i) append(input.positions[3 * old + i]);
     for (const VertexChannel& c : input.channels) {
       const std::size_t n = static_cast<std::size_t>(c.components);
-      values.insert(values.end(), &c.values[n * old], &c.values[n * old] + n);
+      for (std::size_t i = 0; i < n; ++i) append(c.values[n * old + i]);
     }
-    const double* row = &values[std::size_t{v} * k_stride];
-    for (std::size_t k = 0; k < k_stride; ++k) lowest[k] = std::min(lowest[k], row[k]), highest[k] = std::max(highest[k], row[k]);
   }
   // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
   // diagonal as bounding_box_diagonal computes it from the same extremes).
@@ -273,13 +339,12 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
   const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
   transform.analyze(values, K);
-  // The level weights' impulses in zeros that only their supports touch: calloc maps fresh pages
-  // for a large array (no clearing pass; a page is faulted in only where an impulse reaches).
+  // The level weights' impulses in zeros, resident before the base vertex's whole synthesis
+  // writes them (large_array.h: one system call for the pages instead of a fault each).
   {
-    const std::unique_ptr<double, decltype(&std::free)> impulses(static_cast<double*>(std::calloc(V, sizeof(double))),
-                                                                 &std::free);
-    if (!impulses) throw std::bad_alloc();
-    header.level_weights = level_weights(h, transform, std::span<double>(impulses.get(), V));
+    std::vector<double> impulses;
+    assign_large(impulses, V, 0.0);
+    header.level_weights = level_weights(h, transform, impulses);
   }
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder

@@ -451,24 +451,10 @@ class EncoderIo {
   /// Reads and completes q's records (their widths), which the passes then read in place.
   EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder)
       : coefficients_(q.coefficients.get()), encoder_(&encoder), k_(static_cast<std::size_t>(q.components)) {
-    // Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
-    // Children always have larger indices than their parent. The finest level's vertices have
-    // none: their widths stay the 0 the records hold (Quantized).
-    for (std::uint32_t v = f.level_starts[static_cast<std::size_t>(f.levels)]; v-- > 0;) {
-      // The inner-edge children are far from the halves: ask for them a few vertices ahead.
-      if (v >= kPrefetchDistance)
-        for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance)))
-          prefetch(child, 0);
-      Coefficient* x = &coefficients_[index(v, 0)];
-      for (std::size_t c = 0; c < k_; ++c) x[c].descendants_width = x[c].grandchildren_width = 0;
-      for (const std::uint32_t child : f.children(v)) {
-        const Coefficient* y = &coefficients_[index(child, 0)];
-        for (std::size_t c = 0; c < k_; ++c) {
-          x[c].descendants_width = std::max({x[c].descendants_width, width(y[c].magnitude), y[c].descendants_width});
-          x[c].grandchildren_width = std::max(x[c].grandchildren_width, y[c].descendants_width);
-        }
-      }
-    }
+    if (k_ == kGeometryComponents)
+      fill_widths<kGeometryComponents>(f);
+    else
+      fill_widths<0>(f);
   }
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
@@ -483,6 +469,50 @@ class EncoderIo {
 
  private:
   using Coefficient = Quantized::Coefficient;
+
+  /// Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
+  /// Children always have larger indices than their parent, so one backward walk over the
+  /// vertices with children sees every child's widths complete. The finest level's vertices have
+  /// none: their widths stay the 0 the records hold (Quantized). K: the components per vertex
+  /// known at compile time (the geometry alone, the common case: its loops unrolled), or 0 for k_.
+  template <std::size_t K>
+  void fill_widths(const Forest& f) {
+    const std::size_t k = K != 0 ? K : k_;
+    // A parent's widths gathered in registers and stored once.
+    auto gather = [&](std::uint32_t v, const std::uint32_t* children, std::uint32_t count) {
+      std::uint8_t descendants[kMaxComponents] = {}, grandchildren[kMaxComponents] = {};
+      for (std::uint32_t i = 0; i < count; ++i) {
+        const Coefficient* y = &coefficients_[index(children[i], std::size_t{0})];
+        for (std::size_t c = 0; c < k; ++c) {
+          descendants[c] = std::max({descendants[c], width(y[c].magnitude), y[c].descendants_width});
+          grandchildren[c] = std::max(grandchildren[c], y[c].descendants_width);
+        }
+      }
+      Coefficient* x = &coefficients_[index(v, std::size_t{0})];
+      for (std::size_t c = 0; c < k; ++c) {
+        x[c].descendants_width = descendants[c];
+        x[c].grandchildren_width = grandchildren[c];
+      }
+    };
+    // The odd vertices with children, from their 4 fixed slots (Forest::odd_children).
+    const std::uint32_t* slots = f.odd_children.data();
+    const std::uint32_t parents_end = f.levels >= 2 ? f.level_starts[static_cast<std::size_t>(f.levels)] : f.roots;
+    for (std::uint32_t v = parents_end; v-- > f.roots;) {
+      // The inner-edge children are far from the halves: ask for them a few vertices ahead.
+      if (v >= f.roots + kPrefetchDistance) {
+        const std::uint32_t* ahead = slots + 4 * std::size_t{v - kPrefetchDistance - f.roots};
+        prefetch(ahead[2], 0);
+        if (ahead[3] != Forest::kNoChild) prefetch(ahead[3], 0);
+      }
+      const std::uint32_t* children = slots + 4 * std::size_t{v - f.roots};
+      gather(v, children, children[3] == Forest::kNoChild ? 3u : 4u);
+    }
+    for (std::uint32_t v = f.roots; v-- > 0;) {
+      const std::span<const std::uint32_t> children = f.children(v);
+      gather(v, children.data(), static_cast<std::uint32_t>(children.size()));
+    }
+  }
+
   std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * k_ + static_cast<std::size_t>(c); }
   std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
   Coefficient* coefficients_;
