@@ -281,7 +281,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // not matter).
   // The extremes in locals while gathering: in the vectors, every vertex's update would be
   // stored and loaded back through memory (the compiler cannot tell them from `values`).
-  double lowest[3 + zerotree::kMaxChannelComponents], highest[3 + zerotree::kMaxChannelComponents];
+  double lowest[zerotree::kMaxComponents], highest[zerotree::kMaxComponents];  // K <= kMaxComponents: checked above
   std::fill_n(lowest, k_stride, std::numeric_limits<double>::infinity());
   std::fill_n(highest, k_stride, -std::numeric_limits<double>::infinity());
   std::vector<double> values;
