@@ -478,11 +478,14 @@ class EncoderIo {
   template <std::size_t K>
   void fill_widths(const Forest& f) {
     const std::size_t k = K != 0 ? K : k_;
-    // A parent's widths gathered in registers and stored once.
-    auto gather = [&](std::uint32_t v, const std::uint32_t* children, std::uint32_t count) {
+    for (std::uint32_t v = f.level_starts[static_cast<std::size_t>(f.levels)]; v-- > 0;) {
+      // The inner-edge children are far from the halves: ask for them a few vertices ahead.
+      if (v >= kPrefetchDistance)
+        for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance))) prefetch(child, 0);
+      // The widths gathered in locals (registers) and stored once.
       std::uint8_t descendants[kMaxComponents] = {}, grandchildren[kMaxComponents] = {};
-      for (std::uint32_t i = 0; i < count; ++i) {
-        const Coefficient* y = &coefficients_[index(children[i], std::size_t{0})];
+      for (const std::uint32_t child : f.children(v)) {
+        const Coefficient* y = &coefficients_[index(child, std::size_t{0})];
         for (std::size_t c = 0; c < k; ++c) {
           descendants[c] = std::max({descendants[c], width(y[c].magnitude), y[c].descendants_width});
           grandchildren[c] = std::max(grandchildren[c], y[c].descendants_width);
@@ -493,23 +496,6 @@ class EncoderIo {
         x[c].descendants_width = descendants[c];
         x[c].grandchildren_width = grandchildren[c];
       }
-    };
-    // The odd vertices with children, from their 4 fixed slots (Forest::odd_children).
-    const std::uint32_t* slots = f.odd_children.data();
-    const std::uint32_t parents_end = f.levels >= 2 ? f.level_starts[static_cast<std::size_t>(f.levels)] : f.roots;
-    for (std::uint32_t v = parents_end; v-- > f.roots;) {
-      // The inner-edge children are far from the halves: ask for them a few vertices ahead.
-      if (v >= f.roots + kPrefetchDistance) {
-        const std::uint32_t* ahead = slots + 4 * std::size_t{v - kPrefetchDistance - f.roots};
-        prefetch(ahead[2], 0);
-        if (ahead[3] != Forest::kNoChild) prefetch(ahead[3], 0);
-      }
-      const std::uint32_t* children = slots + 4 * std::size_t{v - f.roots};
-      gather(v, children, children[3] == Forest::kNoChild ? 3u : 4u);
-    }
-    for (std::uint32_t v = f.roots; v-- > 0;) {
-      const std::span<const std::uint32_t> children = f.children(v);
-      gather(v, children.data(), static_cast<std::uint32_t>(children.size()));
     }
   }
 
