@@ -51,8 +51,10 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
     std::vector<std::size_t> index;
   };
   std::vector<std::vector<RunStarts>> starts(static_cast<std::size_t>(L));
+  std::vector<VertexEdges> edges;
   std::size_t most_rows = 0;
   for (int i = 0; i < L; ++i) {
+    edges.emplace_back(h.topology(i));
     for (const LiftingStep& step : transform.steps(i)) {
       RunStarts r;
       std::uint32_t row = 0;
@@ -68,42 +70,6 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
       starts[static_cast<std::size_t>(i)].push_back(std::move(r));
     }
   }
-  // The edges of level i at its vertex w, without an incidence table per level (those cost more
-  // to build, ~30 MB, than these walks): from the base's incidence or the level where w is born,
-  // then down the 1:4 splits (topology.h, refined()): an even vertex keeps the half of each of its
-  // edges on its side (2e if it is edge e's first vertex, else 2e + 1); the odd vertex on edge e of
-  // a level has both halves of e and, in each face f of e where e is face edge k, the inner edges
-  // 2E + 3f + (k + 1) % 3 and 2E + 3f + (k + 2) % 3 (inner edge i joins the midpoints of face
-  // edges i + 1 and i + 2). Any order: the callers only mark.
-  const VertexEdges base_edges(h.topology(0));
-  auto for_each_edge_at = [&](int i, std::uint32_t w, auto&& f) {
-    int born = 0;
-    while (w >= h.vertex_count(born)) ++born;
-    // The halves of edge (a, b) are (a, m) and (m, b) (refined()): w stays on the same end of its
-    // edge's halves, so d splits take edge e to e 2^d (w first) or (e + 1) 2^d - 1 (w second).
-    auto descend = [&](std::uint32_t e) {
-      const int d = i - born;
-      if (d > 0) e = h.topology(born).edge_vertices[2 * e] == w ? e << d : ((e + 1) << d) - 1;
-      f(e);
-    };
-    if (born == 0) {
-      for (std::uint32_t a = base_edges.offsets[w]; a < base_edges.offsets[w + 1]; ++a) descend(base_edges.edges[a]);
-      return;
-    }
-    const TriangleTopology& coarse = h.topology(born - 1);
-    const std::uint32_t e = w - h.vertex_count(born - 1), E = static_cast<std::uint32_t>(coarse.edge_count());
-    descend(2 * e);
-    descend(2 * e + 1);
-    for (std::uint32_t side = 0; side < 2; ++side) {
-      const std::uint32_t face = coarse.edge_faces[2 * e + side];
-      if (face == kNone) continue;
-      for (std::uint32_t k = 0; k < 3; ++k)
-        if (coarse.face_edges[3 * face + k] == e) {
-          descend(2 * E + 3 * face + (k + 1) % 3);
-          descend(2 * E + 3 * face + (k + 2) % 3);
-        }
-    }
-  };
   double* x = buffer.data();
   const std::uint32_t V_L = h.vertex_count(L);
   std::vector<std::uint8_t> is_live, is_near, is_candidate;
@@ -157,6 +123,7 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
     x[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
     make_live(begin + (h.vertex_count(j) - begin) / 2);
     for (int i = std::max(0, j - 1); i < L; ++i) {
+      const VertexEdges& ve = edges[static_cast<std::size_t>(i)];
       const TriangleTopology& t = h.topology(i);
       const std::uint32_t V = h.vertex_count(i), fine_V = h.vertex_count(i + 1);
       for (std::size_t s = 0; s < transform.steps(i).size(); ++s) {
@@ -177,13 +144,14 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
               continue;
             }
             make_near(u);
-            for_each_edge_at(i, u, [&](std::uint32_t e) {
+            for (std::uint32_t a = ve.offsets[u]; a < ve.offsets[u + 1]; ++a) {
+              const std::uint32_t e = ve.edges[a];
               make_near(t.edge_vertices[2 * e] == u ? t.edge_vertices[2 * e + 1] : t.edge_vertices[2 * e]);
-            });
+            }
           }
           for (const std::uint32_t w : near) {
             is_near[w] = 0;
-            for_each_edge_at(i, w, [&](std::uint32_t e) { candidate(V + e); });
+            for (std::uint32_t b = ve.offsets[w]; b < ve.offsets[w + 1]; ++b) candidate(V + ve.edges[b]);
           }
           near.clear();
         } else {  // update: targets are the even vertices
