@@ -36,6 +36,14 @@ SemiRegularMesh bumpy(const TriangleMesh& base, int levels, double amplitude = 0
 
 using test::rms_error;
 
+// Where the first COEF chunk's payload starts (the base part's first byte): after its tag and
+// its length as a varint (FORMAT.md §2.1).
+std::size_t coefficient_payload(const StreamInfo& info) {
+  std::size_t payload = info.chunks[2].offset + 4 + 1;
+  for (std::size_t length = info.chunks[2].size; length >= 128; length >>= 7) ++payload;
+  return payload;
+}
+
 const std::vector<WaveletOptions> kSchemes = {
     {Scheme::linear, false}, {Scheme::linear, true}, {Scheme::butterfly, false}, {Scheme::butterfly, true}, {Scheme::loop, false}};
 
@@ -411,10 +419,7 @@ TEST_CASE("base part: the predicted top planes of the base cost fewer bits at ev
   // inspect() finds the base part's end: the first prefix that holds every base vertex.
   REQUIRE(info.base_part_bytes > 0);
   CHECK(inspect(plain).base_part_bytes == 0);
-  // The first COEF chunk's payload follows its tag and its length as a varint (FORMAT.md §2.1).
-  std::size_t payload = info.chunks[2].offset + 4 + 1;
-  for (std::size_t length = info.chunks[2].size; length >= 128; length >>= 7) ++payload;
-  const std::size_t start = payload + info.base_part_bytes;
+  const std::size_t start = coefficient_payload(info) + info.base_part_bytes;
   DecodeOptions cut;
   cut.max_bytes = start;
   CHECK(decode(predicted, cut).base_vertices_decoded == mesh.hierarchy.vertex_count(0));
@@ -443,8 +448,7 @@ TEST_CASE("base part: a prefix that ends inside it shows the base extrapolated, 
   const auto bytes = encode(mesh, {});
   const StreamInfo info = inspect(bytes);
   REQUIRE(info.base_part_bytes > 8);
-  std::size_t payload = info.chunks[2].offset + 4 + 1;
-  for (std::size_t length = info.chunks[2].size; length >= 128; length >>= 7) ++payload;
+  const std::size_t payload = coefficient_payload(info);
   const std::uint32_t base_vertices = mesh.hierarchy.vertex_count(0);
   // The base vertices' RMS distance from the centre: the error of a prefix that left them there.
   double from_centre = 0;
@@ -470,7 +474,7 @@ TEST_CASE("base part: a prefix that ends inside it shows the base extrapolated, 
   std::printf("base part cut: base RMS error %.3e at half, %.3e one byte short; %.3e from the centre\n", half,
               almost, from_centre);
   CHECK(half < 0.5 * from_centre);
-  CHECK(almost < 0.05 * from_centre);
+  CHECK(almost < 0.01 * from_centre);  // zeros: 0.035 (the vertices of the last byte at the centre)
 }
 
 TEST_CASE("base part: a vertex is predicted by the floor of the mean of all its parallelograms", "[codec]") {
