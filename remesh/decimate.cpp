@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "meshlift/features.h"
 #include "meshlift/validate.h"
 #include "halfedge_mesh.h"
 
@@ -192,6 +193,54 @@ class ModComponentFloorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   std::vector<std::size_t> floor_;
 };
 
+/// Binary module: the feature lines stay (features.h). A corner of the lines (a vertex with one
+/// or three or more feature edges) is locked; a vertex inside a line collapses only along it,
+/// into one of its two neighbours on the line, and not where that would close a line into a loop
+/// of two (its other neighbour already the target's neighbour on a line). So the base keeps every
+/// line, each as the chain of its vertices that remain, in their order along it.
+template <typename MeshT>
+class ModFeatureLinesT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModFeatureLinesT, MeshT, FeatureLines);
+
+  explicit ModFeatureLinesT(MeshT& mesh) : Base(mesh, true) {}
+
+  /// `lines` over the input vertices, `handle_of[v]` the half-edge mesh's vertex of input vertex
+  /// v (or an invalid handle). Locks the corners.
+  void set_lines(const FeatureLines& lines, const std::vector<typename MeshT::VertexHandle>& handle_of) {
+    neighbours_.assign(Base::mesh().n_vertices(), {});
+    for (std::uint32_t v = 0; v + 1 < lines.offsets.size(); ++v) {
+      if (lines.degree(v) == 0 || !handle_of[v].is_valid()) continue;
+      auto& list = neighbours_[handle_of[v].idx()];
+      for (std::uint32_t k = lines.offsets[v]; k < lines.offsets[v + 1]; ++k) list.push_back(handle_of[lines.neighbours[k]].idx());
+      if (lines.is_corner(v)) Base::mesh().status(handle_of[v]).set_locked(true);
+    }
+  }
+
+  float collapse_priority(const CollapseInfo& ci) override {
+    const auto& line = neighbours_[ci.v0.idx()];
+    if (line.empty()) return float(Base::LEGAL_COLLAPSE);
+    if (line.size() != 2 || Base::mesh().status(ci.v0).locked()) return float(Base::ILLEGAL_COLLAPSE);  // a corner
+    const int target = ci.v1.idx(), other = line[0] == target ? line[1] : line[0];
+    if (line[0] != target && line[1] != target) return float(Base::ILLEGAL_COLLAPSE);
+    const auto& beyond = neighbours_[other];
+    return std::find(beyond.begin(), beyond.end(), target) == beyond.end() ? float(Base::LEGAL_COLLAPSE)
+                                                                           : float(Base::ILLEGAL_COLLAPSE);
+  }
+
+  void postprocess_collapse(const CollapseInfo& ci) override {
+    auto& line = neighbours_[ci.v0.idx()];
+    if (line.empty()) return;
+    const int removed = ci.v0.idx(), target = ci.v1.idx(), other = line[0] == target ? line[1] : line[0];
+    std::replace(neighbours_[target].begin(), neighbours_[target].end(), removed, other);
+    std::replace(neighbours_[other].begin(), neighbours_[other].end(), removed, target);
+    line.clear();
+  }
+
+ private:
+  std::vector<std::vector<int>> neighbours_;  // per vertex handle index: its neighbours on the lines
+};
+
 void check_options(const DecimateOptions& options) {
   if (options.levels < 0 || options.levels > 15)
     throw std::invalid_argument("decimate: levels must be in 0..15, got " + std::to_string(options.levels));
@@ -308,6 +357,7 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     OpenMesh::Decimater::ModAspectRatioT<HalfedgeMesh>::Handle aspect_ratio;
     ModInputNormalT<HalfedgeMesh>::Handle input_normal;
     ModComponentFloorT<HalfedgeMesh>::Handle component_floor;
+    ModFeatureLinesT<HalfedgeMesh>::Handle feature_lines;
     decimater.add(quadric);
     decimater.add(input_normal);
     decimater.add(normal_flipping);
@@ -316,6 +366,10 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
     decimater.module(normal_flipping).set_max_normal_deviation(options.max_normal_deviation_degrees);
     decimater.module(aspect_ratio).set_aspect_ratio(static_cast<float>(options.min_aspect_ratio));
     decimater.module(component_floor).set_components(component_of_handle, floor);
+    if (options.feature_lines && !options.feature_lines->empty()) {
+      decimater.add(feature_lines);
+      decimater.module(feature_lines).set_lines(*options.feature_lines, handle);
+    }
     if (!decimater.initialize()) throw std::logic_error("decimate: OpenMesh's decimater did not initialize");
     collapses = decimater.decimate_to(target);
   }

@@ -84,7 +84,7 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
   // pinned in the solve (a large weight to their position) and then put back exactly.
   std::vector<std::uint32_t> pinned;
   for (std::uint32_t v = 0; v < n; ++v)
-    if (adjacency.on_boundary(v)) pinned.push_back(v);
+    if (adjacency.on_boundary(v) || (v < options.fixed.size() && options.fixed[v])) pinned.push_back(v);
   const TriangleMesh& input = surface.mesh();
   const std::size_t sample_count = static_cast<std::size_t>(std::ceil(options.samples_per_face * faces));
   std::vector<std::uint32_t> sample_faces;

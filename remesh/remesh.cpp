@@ -32,6 +32,7 @@
 
 #include "meshlift/closest_point.h"
 #include "meshlift/decimate.h"
+#include "meshlift/features.h"
 #include "meshlift/geometry_image.h"
 #include "meshlift/interpolate.h"
 #include "meshlift/least_squares_fit.h"
@@ -73,18 +74,20 @@ double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed) {
 
 /// Places the refined base on the surface from `guide` and untangles its folded patches.
 SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const std::vector<double>& guide,
-                                 bool normal_lines, const SurfaceQuery& surface,
+                                 bool normal_lines, const SurfaceQuery& surface, std::span<const std::uint8_t> fixed,
                                  const std::function<void(double)>& report) {
   SemiRegularMesh mesh{hierarchy, {}, {}};
   SurfaceFitOptions fit_options;
   if (!normal_lines) fit_options.normal_line_levels = 0;
   fit_options.progress = report;
+  fit_options.fixed = fixed;
   fit_to_surface(mesh, guide, surface, fit_options);
   // Patches only: the least-squares rounds move every vertex again, and per-vertex moves made
   // before them shifted their result for no fewer folds after (camel -0.3 dB).
   UntangleOptions patches_only;
   patches_only.vertex_passes = 0;
   patches_only.rounds = 1;
+  patches_only.fixed = fixed;
   untangle(mesh, surface, patches_only);
   return mesh;
 }
@@ -94,7 +97,7 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// by least squares, untangle again. With --fit loop there are two guides; the placement that
 /// folds fewest faces goes on, one with normal lines among equals, then the closer to the input.
 RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateResult& decimated,
-                                  int levels, BaseFit fit, int least_squares_rounds,
+                                  const FeatureLines& lines, int levels, BaseFit fit, int least_squares_rounds,
                                   const std::function<void(double)>& report,
                                   std::vector<std::pair<std::string, double>>& stages) {
   StageClock clock(stages);
@@ -124,6 +127,13 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
     return limit;
   };
   std::vector<std::vector<double>> guides{limit_surface(control)};
+  // The vertices on feature lines have their places already (features.h): every guide holds them.
+  const FeaturePlacement features = place_on_features(h, mesh, base, base_feature_edges(lines, decimated.original_vertex));
+  auto hold_features = [&](std::vector<double>& guide) {
+    for (std::uint32_t v = 0; v < features.fixed.size(); ++v)
+      if (features.fixed[v]) std::copy_n(features.positions.begin() + 3 * std::ptrdiff_t{v}, 3, guide.begin() + 3 * std::ptrdiff_t{v});
+  };
+  hold_features(guides[0]);
   if (fit == BaseFit::loop) {
     // Second guide: where the unfitted limit surface is closer to the input than the fitted one
     // (the fitted control mesh overshoots around thin parts: camel's head, turbine's blades),
@@ -140,6 +150,7 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
       if (surface.closest(unfitted).distance < surface.closest(fitted).distance)
         std::copy_n(plain.begin() + 3 * std::ptrdiff_t{v}, 3, mixed.begin() + 3 * std::ptrdiff_t{v});
     }
+    hold_features(mixed);
     if (mixed != guides[0]) guides.push_back(std::move(mixed));
   }
   clock.lap("guides");
@@ -167,7 +178,7 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   std::vector<Placed> candidates;
   auto place_each_guide = [&](bool normal_lines) {
     auto place = [&](std::size_t g, const std::function<void(double)>& progress) {
-      Placed placed{place_refinement(h, guides[g], normal_lines, surface, progress), normal_lines};
+      Placed placed{place_refinement(h, guides[g], normal_lines, surface, features.fixed, progress), normal_lines};
       placed.count_folds(surface);
       return placed;
     };
@@ -202,8 +213,11 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
   auto finish = [&](Placed& placed) {
     LeastSquaresFitOptions least_squares;
     least_squares.iterations = least_squares_rounds;
+    least_squares.fixed = features.fixed;
     fit_least_squares(*placed.mesh, surface, least_squares);
-    untangle(*placed.mesh, surface);
+    UntangleOptions untangle_options;
+    untangle_options.fixed = features.fixed;
+    untangle(*placed.mesh, surface, untangle_options);
     placed.count_folds(surface);
   };
 
@@ -233,6 +247,8 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
 
   RemeshResult result{std::move(*placed.mesh)};
   result.base_vertices = base.vertex_count();
+  result.feature_edges = lines.edge_count();
+  result.feature_vertices = features.count();
   result.flipped_triangles = placed.flipped;
   result.degenerate_triangles = placed.degenerate;
   report(1);
@@ -315,8 +331,11 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     report(1);
     return result;
   }
+  const FeatureLines lines =
+      find_feature_lines(mesh, options.feature_angle, options.feature_min_edges, options.feature_max_turn);
   auto decimate_for = [&](double density) {
     DecimateOptions decimate_options;
+    decimate_options.feature_lines = &lines;
     decimate_options.levels = options.levels;
     decimate_options.target_vertices =
         options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, density);
@@ -328,7 +347,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     StageClock clock(stages);
     const DecimateResult decimated = base ? base->get() : decimate_for(density);
     clock.lap(base ? "decimate (rest of the one run alongside)" : "decimate");
-    RemeshResult r = remesh_by_decimation(mesh, surface, decimated, options.levels, options.fit,
+    RemeshResult r = remesh_by_decimation(mesh, surface, decimated, lines, options.levels, options.fit,
                                           options.least_squares_rounds, [&](double f) { report(from + (to - from) * f); },
                                           stages);
     r.density = options.base_vertices != 0 ? 0 : density;

@@ -113,6 +113,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
   const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const BoundaryCurves boundary(surface.mesh());
   const TriangleMesh& input = surface.mesh();
+  auto is_fixed = [&](std::uint32_t v) { return v < options.fixed.size() && options.fixed[v] != 0; };
 
   mesh.positions.assign(guide.begin(), guide.end());
   std::span<double> x(mesh.positions);
@@ -256,9 +257,18 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
       std::fill(x.begin() + 3 * std::ptrdiff_t{first}, x.begin() + 3 * std::ptrdiff_t{end}, 0.0);
       butterfly.synthesize(x, 3, j, j - 1);
     }
-    // Round 0 projects the start positions; rounds 1.. smooth tangentially, then project.
-    std::vector<std::uint32_t> fresh(end - first);
-    for (std::uint32_t i = 0; i < fresh.size(); ++i) fresh[i] = first + i;
+    // Round 0 projects the start positions; rounds 1.. smooth tangentially, then project. Fixed
+    // vertices keep the guide's position (on a feature line).
+    std::vector<std::uint32_t> fresh, fresh_index(end - first, kNone);
+    for (std::uint32_t v = first; v < end; ++v) {
+      if (!is_fixed(v)) {
+        fresh_index[v - first] = static_cast<std::uint32_t>(fresh.size());
+        fresh.push_back(v);
+        continue;
+      }
+      std::copy_n(guide.begin() + 3 * std::ptrdiff_t{v}, 3, x.begin() + 3 * std::ptrdiff_t{v});
+      face_of[v] = surface.closest(at(x, v)).face;
+    }
     for (int r = 0; r <= options.relax_iterations; ++r) {
       round(fresh, r > 0, options.relax_step);
       work_done += static_cast<double>(fresh.size());
@@ -312,8 +322,8 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
           if (folded_before[f] || !folded(f)) continue;
           for (int k = 0; k < 3; ++k) {
             const std::uint32_t v = triangles[3 * f + k];
-            if (v < first || next_face[v - first] == kNone) continue;
-            const std::size_t i = v - first;
+            if (v < first || fresh_index[v - first] == kNone || next_face[fresh_index[v - first]] == kNone) continue;
+            const std::size_t i = fresh_index[v - first];
             for (int c = 0; c < 3; ++c) x[3 * v + c] = old_position[3 * i + c];
             face_of[v] = old_face[i];
             next_face[i] = kNone;
@@ -344,7 +354,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
       best = std::min(best, folded_faces);
       std::vector<std::uint32_t> tangled;
       for (std::uint32_t v = h.vertex_count(0); v < end; ++v)
-        if (marked[v]) tangled.push_back(v);
+        if (marked[v] && !is_fixed(v)) tangled.push_back(v);
       round(tangled, true, 1.0);
     }
   }

@@ -88,8 +88,11 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   std::vector<double>& x = mesh.positions;
 
   // Vertex -> faces and neighbours. The mesh's own boundary vertices stay on the input's boundary
-  // curves, where the fitting put them.
+  // curves, where the fitting put them, and fixed vertices on the feature lines.
   const Adjacency adjacency(n, triangles);
+  auto stays = [&](std::uint32_t v) {
+    return adjacency.on_boundary(v) || (v < options.fixed.size() && options.fixed[v] != 0);
+  };
   const std::vector<std::uint32_t>& offsets = adjacency.face_offsets;
   const std::vector<std::uint32_t>& incident = adjacency.faces;
 
@@ -156,7 +159,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               if (vertex_stamp[v] == generation) continue;
               vertex_stamp[v] = generation;
               vertices.push_back(v);
-              bool all_in = !adjacency.on_boundary(v);
+              bool all_in = !stays(v);
               for (std::uint32_t j = offsets[v]; all_in && j < offsets[v + 1]; ++j) all_in = stamp[incident[j]] == generation;
               if (all_in) local[v] = static_cast<std::uint32_t>(inner.size()), inner.push_back(v);
               else local[v] = kNone;
@@ -269,7 +272,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
       for (std::size_t f = 0; f < faces; ++f)
         if (folded[f])
           for (int k = 0; k < 3; ++k)
-            if (!adjacency.on_boundary(triangles[3 * f + k])) candidates.push_back(triangles[3 * f + k]);
+            if (!stays(triangles[3 * f + k])) candidates.push_back(triangles[3 * f + k]);
       std::sort(candidates.begin(), candidates.end());
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       std::size_t moved = 0;

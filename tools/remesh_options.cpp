@@ -43,6 +43,12 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
                  "rounds of least-squares fitting to the input, both ways (0: vertices stay on the input surface)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
+  cmd.add_option("--feature-angle", options.feature_angle,
+                 "feature lines (CAD creases): edges whose faces turn by more than this many degrees, in smooth "
+                 "lines of 5 edges or more, are kept by the base and followed by the remesh; 60 suits CAD parts; "
+                 "0: none")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
 }
 
 RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
@@ -52,6 +58,7 @@ RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
   o.density = options.density == "auto" ? 0 : std::stod(options.density);
   o.fit = options.fit == "none" ? BaseFit::none : BaseFit::loop;
   o.least_squares_rounds = options.least_squares_rounds;
+  o.feature_angle = options.feature_angle;
   o.method = options.method == "sphere" ? RemeshMethod::sphere
              : options.method == "best" ? RemeshMethod::best
                                         : RemeshMethod::decimate;
@@ -89,6 +96,9 @@ void print_remesh_summary(const std::string& path, const PolygonMesh& input, con
   for (const auto& [stage, stage_seconds] : result.stage_seconds)
     stages += (stages.empty() ? "" : ", ") + stage + " " + format_seconds(stage_seconds);
   if (!stages.empty()) std::fprintf(stderr, "%s: stages: %s\n", path.c_str(), stages.c_str());
+  if (result.feature_vertices > 0)
+    std::fprintf(stderr, "%s: feature lines: %zu input edges; %zu remesh vertices placed on them\n", path.c_str(),
+                 result.feature_edges, result.feature_vertices);
   std::fprintf(stderr, "%s: peak memory %.0f MiB\n", path.c_str(), peak_rss_mb());
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
                result.degenerate_triangles);

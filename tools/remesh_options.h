@@ -16,6 +16,7 @@ struct RemeshCliOptions {
   std::string density = "auto";
   std::string fit = "loop";
   int least_squares_rounds = RemeshOptions{}.least_squares_rounds;
+  double feature_angle = RemeshOptions{}.feature_angle;
 };
 
 /// Adds `method_flag` (--method for remesh, --remesh for encode), --levels, --base-vertices and

@@ -10,6 +10,8 @@
 
 namespace meshlift {
 
+struct FeatureLines;
+
 struct DecimateOptions {
   /// Vertices the base mesh should keep (counting only vertices that some face uses).
   /// 0 chooses automatically so that `levels` Loop refinements of the base (each roughly
@@ -31,6 +33,10 @@ struct DecimateOptions {
   /// there before (collapses that improve bad triangles stay allowed). Despite the name it is an
   /// upper bound on the ratio; OpenMesh calls it "min aspect" because it stores 1/ratio. >= 1.
   double min_aspect_ratio = 5;
+  /// Feature lines of the input to keep (features.h; over the input's vertices), or none. Their
+  /// corners stay in the base, and their other vertices collapse only along them, so the base
+  /// keeps each line as a chain of its own vertices. Not owned: must outlive the call.
+  const FeatureLines* feature_lines = nullptr;
 };
 
 struct DecimateResult {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "meshlift/closest_point.h"
@@ -37,6 +38,9 @@ struct LeastSquaresFitOptions {
   /// Worker threads for the closest-point queries; 0 = hardware concurrency. Results do not
   /// depend on it.
   unsigned threads = 0;
+  /// Per vertex, or empty: 1 where the vertex is pinned as boundary vertices are (on a feature
+  /// line, features.h).
+  std::span<const std::uint8_t> fixed;
 };
 
 /// What each round achieved: the energy's two data terms as RMS distances (the input samples the

@@ -43,6 +43,9 @@ struct SurfaceFitOptions {
   /// Threads for the projections (results do not depend on it); 0 = hardware concurrency.
   unsigned threads = 0;
   std::function<void(double)> progress;
+  /// Per vertex of the finest level, or empty: 1 where the vertex keeps its guide position (on a
+  /// feature line, features.h): never placed, smoothed or untangled.
+  std::span<const std::uint8_t> fixed;
 };
 
 /// Fills `mesh.positions` (all levels) from `guide`, one xyz triple per vertex of the finest

@@ -11,6 +11,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <span>
 
 #include "meshlift/closest_point.h"
 #include "meshlift/semi_regular.h"
@@ -35,6 +37,9 @@ struct UntangleOptions {
   /// alone), cow 27 (52), turbine 20 (63), mannequin-devil 27 (78); three rounds 9, 16, 19, 21;
   /// eight as three.
   int rounds = 3;
+  /// Per vertex of the finest level, or empty: 1 where the vertex stays (on a feature line,
+  /// features.h), as the mesh's boundary vertices do.
+  std::span<const std::uint8_t> fixed;
 };
 
 struct UntangleReport {
