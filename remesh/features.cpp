@@ -41,7 +41,7 @@ std::uint32_t other_neighbour(const FeatureLines& g, std::uint32_t w, std::uint3
 std::size_t FeaturePlacement::count() const { return static_cast<std::size_t>(std::count(fixed.begin(), fixed.end(), 1)); }
 
 FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degrees, std::size_t min_chain_edges,
-                                double max_turn_degrees) {
+                                double max_turn_degrees, double max_side_degrees) {
   if (!(min_angle_degrees > 0 && min_angle_degrees < 180)) return {};
   const std::size_t faces = mesh.face_count();
   // Unit face normals (zero for a degenerate face: none of its edges is sharp).
@@ -71,6 +71,34 @@ FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degre
   }
   const FeatureLines all = graph_of(mesh.vertex_count(), sharp);
   if (all.empty()) return all;
+  auto is_sharp = [&](std::uint32_t u, std::uint32_t w) {
+    return std::binary_search(all.neighbours.begin() + all.offsets[u], all.neighbours.begin() + all.offsets[u + 1], w);
+  };
+  // The two faces of interior edge (u, w), or kNone.
+  auto faces_of = [&](std::uint32_t u, std::uint32_t w) {
+    const auto key = std::tuple(std::min(u, w), std::max(u, w), std::uint32_t{0});
+    const auto it = std::lower_bound(corners.begin(), corners.end(), key);
+    const bool two = it + 1 < corners.end() && std::get<0>(it[1]) == std::get<0>(key) && std::get<1>(it[1]) == std::get<1>(key) &&
+                     (it + 2 == corners.end() || std::get<0>(it[2]) != std::get<0>(key) || std::get<1>(it[2]) != std::get<1>(key));
+    return two ? std::array<std::uint32_t, 2>{std::get<2>(it[0]), std::get<2>(it[1])} : std::array<std::uint32_t, 2>{kNone, kNone};
+  };
+  // The sides of sharp edge (u, w): the smallest cosine of the turn across the other edges of its
+  // two faces that are not sharp themselves. A crease between smooth parts has sides near 1.
+  auto side_cos = [&](std::uint32_t u, std::uint32_t w) {
+    double smallest = 1;
+    for (const std::uint32_t f : faces_of(u, w)) {
+      if (f == kNone) continue;
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t p = mesh.triangles[3 * std::size_t{f} + i], q = mesh.triangles[3 * std::size_t{f} + (i + 1) % 3];
+        if (std::minmax(p, q) == std::minmax(u, w) || is_sharp(p, q)) continue;
+        const auto across = faces_of(p, q);
+        if (across[0] == kNone) continue;
+        smallest = std::min(smallest, vec3::dot(normal[across[0]], normal[across[1]]));
+      }
+    }
+    return smallest;
+  };
+  const double cos_side = std::cos(max_side_degrees * std::numbers::pi / 180);
 
   // Chains end at corners and at kinks: vertices inside a line where it turns by more than
   // max_turn_degrees (a crease of a CAD part is a smooth curve; the sharp edges of a coarse or
@@ -103,8 +131,12 @@ FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degre
     }
     // A chain between corners is walked from both ends (a loop through one corner, both ways
     // round): keep it once. A loop with no corner is walked once.
-    if (chain.size() >= min_chain_edges && (!stop[start] || std::pair(start, next) < std::pair(at, previous)))
-      kept.insert(kept.end(), chain.begin(), chain.end());
+    if (chain.size() < min_chain_edges || (stop[start] && std::pair(at, previous) < std::pair(start, next))) return;
+    // Its sides: the median over its edges must be within max_side_degrees.
+    std::vector<double> sides;
+    for (const auto& [u, w] : chain) sides.push_back(side_cos(u, w));
+    std::nth_element(sides.begin(), sides.begin() + std::ptrdiff_t(sides.size() / 2), sides.end());
+    if (sides[sides.size() / 2] >= cos_side) kept.insert(kept.end(), chain.begin(), chain.end());
   };
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
     if (stop[v])

@@ -215,9 +215,24 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
     least_squares.iterations = least_squares_rounds;
     least_squares.fixed = features.fixed;
     fit_least_squares(*placed.mesh, surface, least_squares);
+    std::vector<std::uint8_t> fixed = features.fixed;
     UntangleOptions untangle_options;
-    untangle_options.fixed = features.fixed;
+    untangle_options.fixed = fixed;
     untangle(*placed.mesh, surface, untangle_options);
+    // Where a face still folds at a feature line, its corners on the line are let go and
+    // untangled with the rest.
+    if (features.count() > 0) {
+      const FoldOvers folds = find_fold_overs(placed.mesh->finest(), surface);
+      bool released = false;
+      for (const auto* list : {&folds.flipped, &folds.degenerate})
+        for (const std::uint32_t f : *list)
+          for (int i = 0; i < 3; ++i) {
+            const std::uint32_t v = placed.mesh->hierarchy.triangles(placed.mesh->hierarchy.levels())[3 * std::size_t{f} + i];
+            released |= fixed[v] != 0;
+            fixed[v] = 0;
+          }
+      if (released) untangle(*placed.mesh, surface, untangle_options);
+    }
     placed.count_folds(surface);
   };
 
@@ -331,11 +346,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     report(1);
     return result;
   }
-  const FeatureLines lines =
-      find_feature_lines(mesh, options.feature_angle, options.feature_min_edges, options.feature_max_turn);
-  auto decimate_for = [&](double density) {
+  const FeatureLines lines = find_feature_lines(mesh, options.feature_angle, options.feature_min_edges,
+                                                options.feature_max_turn, options.feature_max_side);
+  const FeatureLines no_lines;
+  auto decimate_for = [&](double density, const FeatureLines& with) {
     DecimateOptions decimate_options;
-    decimate_options.feature_lines = &lines;
+    decimate_options.feature_lines = &with;
     decimate_options.levels = options.levels;
     decimate_options.target_vertices =
         options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, density);
@@ -343,68 +359,90 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   std::vector<std::pair<std::string, double>> stages;  // of every decimation remesh made
   // `base`: a decimation started earlier (else decimated here).
-  auto by_decimation = [&](double density, double from, double to, std::future<DecimateResult>* base = nullptr) {
+  auto by_decimation = [&](double density, double from, double to, const FeatureLines& with,
+                           std::future<DecimateResult>* base = nullptr) {
     StageClock clock(stages);
-    const DecimateResult decimated = base ? base->get() : decimate_for(density);
+    const DecimateResult decimated = base ? base->get() : decimate_for(density, with);
     clock.lap(base ? "decimate (rest of the one run alongside)" : "decimate");
-    RemeshResult r = remesh_by_decimation(mesh, surface, decimated, lines, options.levels, options.fit,
+    RemeshResult r = remesh_by_decimation(mesh, surface, decimated, with, options.levels, options.fit,
                                           options.least_squares_rounds, [&](double f) { report(from + (to - from) * f); },
                                           stages);
     r.density = options.base_vertices != 0 ? 0 : density;
     return r;
   };
+  // Errors measured on 200,000 samples a side (±0.01 dB, METRIC.md).
+  auto psnr = [&](const RemeshResult& r) {
+    StageClock clock(stages);
+    const double db = remesh_psnr(mesh, r.mesh);
+    clock.lap("choose density");
+    return db;
+  };
+  // Folded or degenerate faces but where the input passes through itself.
+  auto folds = [&](RemeshResult& r) {
+    if (r.flipped_triangles > 0) note_crossings(r);
+    return r.flipped_triangles - r.flipped_where_input_crosses + r.degenerate_triangles;
+  };
+  auto fold_free = [&](RemeshResult& r) { return folds(r) == 0; };
   RemeshResult result = [&] {
-    if (options.base_vertices != 0 || options.density != 0)
-      return by_decimation(options.density, 0, 1);  // decimate_for() takes base_vertices first
+    if (options.base_vertices != 0 || options.density != 0) {
+      // decimate_for() takes base_vertices first. With feature lines, the remesh with them and
+      // the one without: the one with fewer folds, then the closer (turbine at 4x: 80.1 dB with
+      // its lines, 81.9 without; fandisk 86.6 with, 77.7 without; docs/RESULTS.md).
+      RemeshResult plain = by_decimation(options.density, 0, lines.empty() ? 1 : 0.5, no_lines);
+      if (lines.empty()) return plain;
+      RemeshResult lined = by_decimation(options.density, 0.5, 1, lines);
+      const std::size_t lined_folds = folds(lined), plain_folds = folds(plain);
+      if (lined_folds != plain_folds) return lined_folds < plain_folds ? std::move(lined) : std::move(plain);
+      return psnr(lined) >= psnr(plain) ? std::move(lined) : std::move(plain);
+    }
     // Automatic density: the sparsest remesh that is close enough to the input and folds
     // nowhere (but where the input passes through itself), 2x, then 3x with a margin, else the
-    // closest of the three (turbine: 70.0 dB at 2x, 53.4 at 4x). Errors measured on 200,000
-    // samples a side (±0.01 dB, METRIC.md).
-    auto psnr = [&](const RemeshResult& r) {
-      StageClock clock(stages);
-      const double db = remesh_psnr(mesh, r.mesh);
-      clock.lap("choose density");
-      return db;
+    // closest of the three (turbine: 70.0 dB at 2x, 53.4 at 4x).
+    auto qualifies = [&](RemeshResult& r, double db) { return db >= options.auto_density_psnr && fold_free(r); };
+    // A qualifying 2x remesh far within the threshold (a smooth mesh): sparser still, if that
+    // qualifies too (bear_bis: 84.6 dB at 2x, 83.1 at 1.5x; BD-rate against Draco -76.8 ->
+    // -80.5 %).
+    auto sparsest_or = [&](RemeshResult& sparse, double sparse_psnr, const FeatureLines& with) {
+      if (sparse_psnr >= options.sparsest_density_psnr) {
+        RemeshResult sparsest = by_decimation(kSparsestAutoDensity, 0.5, 1, with);
+        if (qualifies(sparsest, psnr(sparsest))) return sparsest;
+      }
+      return std::move(sparse);
     };
+    // Feature lines first, where there are any: kept if their 2x remesh qualifies; else the
+    // remesh goes on without them (they can cost a thin part or fold at a crossing:
+    // mannequin-devil 68.8 dB at 4x with them, 76.3 without; docs/RESULTS.md).
+    if (!lines.empty()) {
+      RemeshResult lined = by_decimation(kAutoDensities[0], 0, 0.5, lines);
+      if (const double lined_psnr = psnr(lined); qualifies(lined, lined_psnr))
+        return sparsest_or(lined, lined_psnr, lines);
+    }
     // The 3x base is decimated alongside the 2x remesh (decimation is single-threaded and would
     // leave the second core idle); it is used only if the 2x remesh falls short.
     std::future<DecimateResult> middle_base =
-        std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1]); });
-    auto fold_free = [&](RemeshResult& r) {
-      if (r.flipped_triangles == 0) return r.degenerate_triangles == 0;
-      note_crossings(r);
-      return r.flipped_triangles == r.flipped_where_input_crosses && r.degenerate_triangles == 0;
-    };
+        std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1], no_lines); });
     // A decimation that stopped at or above a denser target gives the same base (cow stops at
     // 193 vertices for all three).
     auto same_base_as_denser = [&](const RemeshResult& r, double denser) {
       return r.base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
     };
-    RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5);
+    RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5, no_lines);
     const double sparse_psnr = psnr(sparse);
-    if (sparse_psnr >= options.auto_density_psnr && fold_free(sparse)) {
-      // Far within the threshold (a smooth mesh): sparser still, if that stays within it
-      // (bear_bis: 84.6 dB at 2x, 83.1 at 1.5x; BD-rate against Draco -76.8 -> -80.5 %).
-      if (sparse_psnr >= options.sparsest_density_psnr) {
-        RemeshResult sparsest = by_decimation(kSparsestAutoDensity, 0.5, 1);
-        if (psnr(sparsest) >= options.auto_density_psnr && fold_free(sparsest)) return sparsest;
-      }
-      return sparse;
-    }
+    if (qualifies(sparse, sparse_psnr)) return sparsest_or(sparse, sparse_psnr, no_lines);
     // The closest to the input so far, and the densest made so far.
     RemeshResult* closest = &sparse;
     double closest_psnr = sparse_psnr;
     const RemeshResult* densest = &sparse;
     std::optional<RemeshResult> middle;
     if (!same_base_as_denser(sparse, kAutoDensities[1])) {
-      middle = by_decimation(kAutoDensities[1], 0.5, 0.75, &middle_base);
+      middle = by_decimation(kAutoDensities[1], 0.5, 0.75, no_lines, &middle_base);
       const double middle_psnr = psnr(*middle);
       if (middle_psnr >= options.middle_density_psnr && fold_free(*middle)) return std::move(*middle);
       if (middle_psnr >= closest_psnr) closest = &*middle, closest_psnr = middle_psnr;
       densest = &*middle;
     }
     if (same_base_as_denser(*densest, kAutoDensities[2])) return std::move(*closest);
-    RemeshResult dense = by_decimation(kAutoDensities[2], 0.75, 1);
+    RemeshResult dense = by_decimation(kAutoDensities[2], 0.75, 1, no_lines);
     return psnr(dense) >= closest_psnr ? dense : std::move(*closest);
   }();
   result.stage_seconds = std::move(stages);

@@ -44,9 +44,9 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
   cmd.add_option("--feature-angle", options.feature_angle,
-                 "feature lines (CAD creases): edges whose faces turn by more than this many degrees, in smooth "
-                 "lines of 5 edges or more, are kept by the base and followed by the remesh; 60 suits CAD parts; "
-                 "0: none")
+                 "feature lines (creases of CAD parts): edges whose faces turn by more than this many degrees, "
+                 "in smooth lines of 5 edges or more between smooth sides, are kept by the base and followed by the "
+                 "remesh (with --density auto: where their 2x remesh qualifies); 0: none")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
 }

@@ -38,7 +38,7 @@ struct FeatureLines {
 /// edges of scans and coarse organic meshes, which are noise, not lines. An empty result for
 /// min_angle_degrees <= 0 or >= 180.
 FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degrees, std::size_t min_chain_edges,
-                                double max_turn_degrees = 180);
+                                double max_turn_degrees = 180, double max_side_degrees = 180);
 
 /// A base edge that follows a feature line: base vertices a and b, and the input polyline
 /// between them (input vertex indices, from original_vertex[a] to original_vertex[b]).
