@@ -399,15 +399,23 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // nowhere (but where the input passes through itself), 2x, then 3x with a margin, else the
     // closest of the three (turbine: 70.0 dB at 2x, 53.4 at 4x).
     auto qualifies = [&](RemeshResult& r, double db) { return db >= options.auto_density_psnr && fold_free(r); };
-    // A qualifying 2x remesh far within the threshold (a smooth mesh): sparser still, if that
-    // qualifies too (bear_bis: 84.6 dB at 2x, 83.1 at 1.5x; BD-rate against Draco -76.8 ->
-    // -80.5 %).
+    // A qualifying 2x remesh far within the threshold (a smooth mesh): sparser still, step by
+    // step, while the last one kept is that far within and the next qualifies (bear_bis: 84.6 dB
+    // at 2x, 83.1 at 1.5x, 80.8 at 1x; BD-rate against Draco -76.8 -> -80.5 % at 1.5x, -82.9 ->
+    // -85.1 % at 1x on a finer grid; docs/RESULTS.md).
     auto sparsest_or = [&](RemeshResult& sparse, double sparse_psnr, const FeatureLines& with) {
-      if (sparse_psnr >= options.sparsest_density_psnr) {
-        RemeshResult sparsest = by_decimation(kSparsestAutoDensity, 0.5, 1, with);
-        if (qualifies(sparsest, psnr(sparsest))) return sparsest;
+      RemeshResult kept = std::move(sparse);
+      double kept_psnr = sparse_psnr;
+      double from = 0.5;
+      for (const double density : kSparserAutoDensities) {
+        if (kept_psnr < options.sparsest_density_psnr) break;
+        RemeshResult sparser = by_decimation(density, from, from + 0.25, with);
+        from += 0.25;
+        const double db = psnr(sparser);
+        if (!qualifies(sparser, db)) break;
+        kept = std::move(sparser), kept_psnr = db;
       }
-      return std::move(sparse);
+      return kept;
     };
     // Feature lines first, where there are any: kept if their 2x remesh qualifies; else the
     // remesh goes on without them (they can cost a thin part or fold at a crossing:

@@ -176,13 +176,29 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   const RemeshResult sparse = remesh(input, options);
   CHECK(sparse.density == 2);
   CHECK(surface_distance(input, sparse.mesh.finest(), metric).psnr_db() >= 60);
-  // Far within the threshold: sparser still, if that remesh is within it too (not if it is not).
+  // Far within the threshold: sparser still, 1.5x then 1x, while the one kept is that far within
+  // and the next is within the threshold.
   options.sparsest_density_psnr = 60;
   const RemeshResult sparsest = remesh(input, options);
-  CHECK(sparsest.density == kSparsestAutoDensity);
-  CHECK(surface_distance(input, sparsest.mesh.finest(), metric).psnr_db() >= 60);
+  const double sparsest_db = surface_distance(input, sparsest.mesh.finest(), metric).psnr_db();
+  CHECK(sparsest.density == 1);
+  CHECK(sparsest_db >= 60);
   CHECK(sparsest.mesh.hierarchy.vertex_count(0) < sparse.mesh.hierarchy.vertex_count(0));
-  options.auto_density_psnr = surface_distance(input, sparsest.mesh.finest(), metric).psnr_db() + 0.5;
+  // 1x not within the threshold: 1.5x.
+  options.auto_density_psnr = sparsest_db + 0.5;
+  const RemeshResult sparser = remesh(input, options);
+  const double sparser_db = surface_distance(input, sparser.mesh.finest(), metric).psnr_db();
+  CHECK(sparser.density == 1.5);
+  CHECK(sparser_db >= sparsest_db + 0.5);
+  CHECK(sparser.mesh.hierarchy.vertex_count(0) < sparse.mesh.hierarchy.vertex_count(0));
+  CHECK(sparser.mesh.hierarchy.vertex_count(0) > sparsest.mesh.hierarchy.vertex_count(0));
+  // 1.5x within but not far within: no further step.
+  options.auto_density_psnr = 60;
+  options.sparsest_density_psnr = sparser_db + 0.5;
+  CHECK(remesh(input, options).density == 1.5);
+  // 1.5x not within either: 2x.
+  options.sparsest_density_psnr = 60;
+  options.auto_density_psnr = sparser_db + 0.5;
   CHECK(remesh(input, options).density == 2);
   // A threshold no 2x remesh reaches: the 3x one when it reaches its own (identical to asking
   // for density 3), else the 4x one (identical to asking for density 4).

@@ -45,15 +45,17 @@ struct RemeshOptions {
   /// and folds no face (but where the input passes through itself: no orientation faces both of
   /// its sheets there); else 3x if that one reaches middle_density_psnr and folds none; else the
   /// closest to the input of 2x, 3x and 4x. Where the 2x remesh reaches sparsest_density_psnr,
-  /// kSparsestAutoDensity if that one qualifies too. Measured (docs/RESULTS.md): 4x gives the
+  /// the kSparserAutoDensities in turn, each kept if it qualifies, the next tried only while the
+  /// last kept one reaches sparsest_density_psnr too. Measured (docs/RESULTS.md): 4x gives the
   /// closer remesh (about 4-9 dB above 2x where both work); 2x codes the 55-75 dB range in
   /// fewer bits (BD-rate against Draco: armadillo -70 % instead of -61 %, bear_bis -74 % instead
   /// of -64 %) but misses limbs on some meshes (camel 59 dB, elephant 49 dB at 2x).
   double density = 0;
   /// The remesh error (PSNR, dB) a 2x remesh must reach for the automatic density to keep it.
   double auto_density_psnr = 75;
-  /// When the 2x remesh reaches this (dB), the automatic density also makes the
-  /// kSparsestAutoDensity one and keeps it if it reaches auto_density_psnr with no fold.
+  /// When the 2x remesh reaches this (dB), the automatic density also makes the first of the
+  /// kSparserAutoDensities and keeps it if it reaches auto_density_psnr with no fold; and so on
+  /// while the one kept reaches this.
   double sparsest_density_psnr = 80;
   /// Where the 2x remesh falls short, the automatic density keeps the 3x one if it reaches this
   /// (dB) with no fold, before trying 4x. Above auto_density_psnr by a margin: a 3x remesh just
@@ -88,8 +90,9 @@ struct RemeshOptions {
 
 /// The densities the automatic choice tries, sparser first.
 inline constexpr double kAutoDensities[] = {2, 3, 4};
-/// The sparser density tried where the 2x remesh is far within the threshold (smooth meshes).
-inline constexpr double kSparsestAutoDensity = 1.5;
+/// The sparser densities tried, in turn, where the 2x remesh is far within the threshold (smooth
+/// meshes, and CAD meshes that follow their feature lines).
+inline constexpr double kSparserAutoDensities[] = {1.5, 1};
 
 struct RemeshResult {
   SemiRegularMesh mesh;
