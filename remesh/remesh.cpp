@@ -387,7 +387,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (options.base_vertices != 0 || options.density != 0) {
       // decimate_for() takes base_vertices first. With feature lines, the remesh with them and
       // the one without: the one with fewer folds, then the closer (turbine at 4x: 80.1 dB with
-      // its lines, 81.9 without; fandisk 86.6 with, 77.7 without; docs/RESULTS.md).
+      // its lines, 81.9 without; fandisk 85.1 with, 77.7 without; docs/RESULTS.md).
       RemeshResult plain = by_decimation(options.density, 0, lines.empty() ? 1 : 0.5, no_lines);
       if (lines.empty()) return plain;
       RemeshResult lined = by_decimation(options.density, 0.5, 1, lines);

@@ -73,7 +73,7 @@ struct RemeshOptions {
   /// most feature_max_side (median over the chain), are kept by the decimation and followed by
   /// the remesh. With the automatic density they are used where their 2x remesh qualifies (as
   /// below), else the remesh goes on without them. Measured (docs/RESULTS.md): fandisk 76.0 dB
-  /// at 2x without, 81.9 with (86.6 against 77.7 at 4x); the side limit keeps the sharp edges of
+  /// at 2x without, 81.9 with (85.1 against 77.7 at 4x); the side limit keeps the sharp edges of
   /// coarse organic meshes (camel, cow, elephant) out.
   double feature_angle = 60;
   std::size_t feature_min_edges = 5;
