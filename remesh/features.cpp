@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <tuple>
 #include <unordered_map>
 
+#include "meshlift/topology.h"
 #include "vec3.h"
 
 namespace meshlift {
@@ -16,18 +16,13 @@ namespace {
 
 using vec3::Vec3;
 
-/// CSR of an undirected edge list over `vertices` vertices, neighbours sorted.
-FeatureLines graph_of(std::size_t vertices, const std::vector<std::array<std::uint32_t, 2>>& edges) {
-  FeatureLines g;
-  g.offsets.assign(vertices + 1, 0);
-  for (const auto& [a, b] : edges) ++g.offsets[a + 1], ++g.offsets[b + 1];
-  for (std::size_t v = 0; v < vertices; ++v) g.offsets[v + 1] += g.offsets[v];
-  g.neighbours.resize(g.offsets.back());
-  std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
-  for (const auto& [a, b] : edges) g.neighbours[fill[a]++] = b, g.neighbours[fill[b]++] = a;
-  for (std::size_t v = 0; v < vertices; ++v) std::sort(g.neighbours.begin() + g.offsets[v], g.neighbours.begin() + g.offsets[v + 1]);
-  if (g.neighbours.empty()) g.offsets.assign(1, 0);
-  return g;
+/// The edge of `topology` between vertices u and w (kNone if there is none), by u's incident edges.
+std::uint32_t edge_between(const TriangleTopology& topology, const VertexEdges& incident, std::uint32_t u, std::uint32_t w) {
+  for (std::uint32_t k = incident.offsets[u]; k < incident.offsets[u + 1]; ++k) {
+    const std::uint32_t e = incident.edges[k];
+    if (topology.edge_vertices[2 * e] + topology.edge_vertices[2 * e + 1] - u == w) return e;
+  }
+  return kNone;
 }
 
 /// The neighbour of w along its line other than `from` (w inside a line: degree 2).
@@ -38,6 +33,19 @@ std::uint32_t other_neighbour(const FeatureLines& g, std::uint32_t w, std::uint3
 
 }  // namespace
 
+FeatureLines FeatureLines::from_edges(std::size_t vertices, const std::vector<std::array<std::uint32_t, 2>>& edges) {
+  FeatureLines g;
+  if (edges.empty()) return g;
+  g.offsets.assign(vertices + 1, 0);
+  for (const auto& [a, b] : edges) ++g.offsets[a + 1], ++g.offsets[b + 1];
+  for (std::size_t v = 0; v < vertices; ++v) g.offsets[v + 1] += g.offsets[v];
+  g.neighbours.resize(g.offsets.back());
+  std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+  for (const auto& [a, b] : edges) g.neighbours[fill[a]++] = b, g.neighbours[fill[b]++] = a;
+  for (std::size_t v = 0; v < vertices; ++v) std::sort(g.neighbours.begin() + g.offsets[v], g.neighbours.begin() + g.offsets[v + 1]);
+  return g;
+}
+
 std::size_t FeaturePlacement::count() const { return static_cast<std::size_t>(std::count(fixed.begin(), fixed.end(), 1)); }
 
 FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degrees, std::size_t min_chain_edges,
@@ -47,55 +55,34 @@ FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degre
   // Unit face normals (zero for a degenerate face: none of its edges is sharp).
   std::vector<Vec3> normal(faces);
   for (std::size_t f = 0; f < faces; ++f) normal[f] = vec3::unit(vec3::face_normal(mesh.positions, &mesh.triangles[3 * f]));
-  // Interior edges with their two faces: the directed corner edges sorted by (min, max).
-  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> corners;
-  corners.reserve(3 * faces);
-  for (std::size_t f = 0; f < faces; ++f)
-    for (int i = 0; i < 3; ++i) {
-      const std::uint32_t a = mesh.triangles[3 * f + i], b = mesh.triangles[3 * f + (i + 1) % 3];
-      corners.emplace_back(std::min(a, b), std::max(a, b), static_cast<std::uint32_t>(f));
-    }
-  std::sort(corners.begin(), corners.end());
+  const TriangleTopology topology = TriangleTopology::build(static_cast<std::uint32_t>(mesh.vertex_count()), mesh.triangles);
+  // The cosine of the turn across interior edge e (1 on a boundary edge or a degenerate face).
+  auto turn_cos = [&](std::size_t e) {
+    if (topology.is_boundary_edge(static_cast<std::uint32_t>(e))) return 1.0;
+    const Vec3 &m = normal[topology.edge_faces[2 * e]], &n = normal[topology.edge_faces[2 * e + 1]];
+    return vec3::dot(m, m) > 0 && vec3::dot(n, n) > 0 ? vec3::dot(m, n) : 1.0;
+  };
   // Sharp: the normals' angle above the threshold, cos(angle) < cos(threshold).
   const double cos_limit = std::cos(min_angle_degrees * std::numbers::pi / 180);
-  std::vector<std::array<std::uint32_t, 2>> sharp;
-  for (std::size_t i = 0; i + 1 < corners.size();) {
-    std::size_t j = i + 1;
-    while (j < corners.size() && std::get<0>(corners[j]) == std::get<0>(corners[i]) && std::get<1>(corners[j]) == std::get<1>(corners[i])) ++j;
-    if (j - i == 2) {
-      const Vec3 &m = normal[std::get<2>(corners[i])], &n = normal[std::get<2>(corners[i + 1])];
-      if (vec3::dot(m, m) > 0 && vec3::dot(n, n) > 0 && vec3::dot(m, n) < cos_limit)
-        sharp.push_back({std::get<0>(corners[i]), std::get<1>(corners[i])});
+  std::vector<std::uint8_t> sharp(topology.edge_count(), 0);
+  std::vector<std::array<std::uint32_t, 2>> sharp_edges;
+  for (std::size_t e = 0; e < topology.edge_count(); ++e)
+    if (turn_cos(e) < cos_limit) {
+      sharp[e] = 1;
+      sharp_edges.push_back({topology.edge_vertices[2 * e], topology.edge_vertices[2 * e + 1]});
     }
-    i = j;
-  }
-  const FeatureLines all = graph_of(mesh.vertex_count(), sharp);
+  const FeatureLines all = FeatureLines::from_edges(mesh.vertex_count(), sharp_edges);
   if (all.empty()) return all;
-  auto is_sharp = [&](std::uint32_t u, std::uint32_t w) {
-    return std::binary_search(all.neighbours.begin() + all.offsets[u], all.neighbours.begin() + all.offsets[u + 1], w);
-  };
-  // The two faces of interior edge (u, w), or kNone.
-  auto faces_of = [&](std::uint32_t u, std::uint32_t w) {
-    const auto key = std::tuple(std::min(u, w), std::max(u, w), std::uint32_t{0});
-    const auto it = std::lower_bound(corners.begin(), corners.end(), key);
-    const bool two = it + 1 < corners.end() && std::get<0>(it[1]) == std::get<0>(key) && std::get<1>(it[1]) == std::get<1>(key) &&
-                     (it + 2 == corners.end() || std::get<0>(it[2]) != std::get<0>(key) || std::get<1>(it[2]) != std::get<1>(key));
-    return two ? std::array<std::uint32_t, 2>{std::get<2>(it[0]), std::get<2>(it[1])} : std::array<std::uint32_t, 2>{kNone, kNone};
-  };
-  // The sides of sharp edge (u, w): the smallest cosine of the turn across the other edges of its
-  // two faces that are not sharp themselves. A crease between smooth parts has sides near 1.
-  auto side_cos = [&](std::uint32_t u, std::uint32_t w) {
+  const VertexEdges incident(topology);
+  // The sides of sharp edge e: the smallest cosine of the turn across the other edges of its two
+  // faces that are not sharp themselves. A crease between smooth parts has sides near 1.
+  auto side_cos = [&](std::uint32_t e) {
     double smallest = 1;
-    for (const std::uint32_t f : faces_of(u, w)) {
-      if (f == kNone) continue;
+    for (int side = 0; side < 2; ++side)
       for (int i = 0; i < 3; ++i) {
-        const std::uint32_t p = mesh.triangles[3 * std::size_t{f} + i], q = mesh.triangles[3 * std::size_t{f} + (i + 1) % 3];
-        if (std::minmax(p, q) == std::minmax(u, w) || is_sharp(p, q)) continue;
-        const auto across = faces_of(p, q);
-        if (across[0] == kNone) continue;
-        smallest = std::min(smallest, vec3::dot(normal[across[0]], normal[across[1]]));
+        const std::uint32_t other = topology.face_edges[3 * std::size_t{topology.edge_faces[2 * e + side]} + i];
+        if (other != e && !sharp[other]) smallest = std::min(smallest, turn_cos(other));
       }
-    }
     return smallest;
   };
   const double cos_side = std::cos(max_side_degrees * std::numbers::pi / 180);
@@ -136,7 +123,7 @@ FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degre
     if (chain.size() < min_chain_edges || (stop[start] && std::pair(at, previous) < std::pair(start, next))) return;
     // Its sides: the median over its edges must be within max_side_degrees.
     std::vector<double> sides;
-    for (const auto& [u, w] : chain) sides.push_back(side_cos(u, w));
+    for (const auto& [u, w] : chain) sides.push_back(side_cos(edge_between(topology, incident, u, w)));
     std::nth_element(sides.begin(), sides.begin() + std::ptrdiff_t(sides.size() / 2), sides.end());
     if (sides[sides.size() / 2] >= cos_side) kept.insert(kept.end(), chain.begin(), chain.end());
   };
@@ -148,7 +135,7 @@ FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degre
       visited[v] = 1;
       walk(v, all.neighbours[all.offsets[v]]);
     }
-  FeatureLines lines = graph_of(mesh.vertex_count(), kept);
+  FeatureLines lines = FeatureLines::from_edges(mesh.vertex_count(), kept);
   if (!lines.empty()) {
     lines.kink.assign(mesh.vertex_count(), 0);
     for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) lines.kink[v] = stop[v] && lines.degree(v) == 2;
@@ -189,21 +176,17 @@ FeaturePlacement place_on_features(const SemiRegularHierarchy& h, const Triangle
   // Each base feature edge's polyline as arc lengths, oriented as the level-0 edge is (the
   // refinement's halves 2e = (a, m), 2e + 1 = (m, b) count from its first vertex).
   const TriangleTopology& coarse = h.topology(0);
-  std::unordered_map<std::uint64_t, std::uint32_t> edge_of;  // (min, max) -> level-0 edge
-  for (std::uint32_t e = 0; e < coarse.edge_count(); ++e) {
-    const std::uint32_t a = coarse.edge_vertices[2 * e], b = coarse.edge_vertices[2 * e + 1];
-    edge_of.emplace(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), e);
-  }
+  const VertexEdges incident(coarse);
   struct Polyline {
     std::vector<Vec3> points;
     std::vector<double> length;  // cumulative, from points[0]
   };
   std::vector<Polyline> line_of(coarse.edge_count());
   for (const BaseFeatureEdge& edge : edges) {
-    const auto found = edge_of.find(std::uint64_t{std::min(edge.a, edge.b)} << 32 | std::max(edge.a, edge.b));
-    if (found == edge_of.end()) continue;  // not an edge of the base (cannot happen with decimate())
-    Polyline& line = line_of[found->second];
-    const bool reversed = coarse.edge_vertices[2 * found->second] != edge.a;
+    const std::uint32_t e = edge_between(coarse, incident, edge.a, edge.b);
+    if (e == kNone) continue;  // not an edge of the base (cannot happen with decimate())
+    Polyline& line = line_of[e];
+    const bool reversed = coarse.edge_vertices[2 * e] != edge.a;
     for (std::size_t i = 0; i < edge.path.size(); ++i)
       line.points.push_back(vec3::at(input.positions, edge.path[reversed ? edge.path.size() - 1 - i : i]));
     line.length.assign(1, 0.0);

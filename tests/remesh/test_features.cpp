@@ -153,16 +153,9 @@ TEST_CASE("Feature lines: the decimation keeps a line as a chain of base edges",
   // row; decimated to 12 vertices, the line's surviving vertices must still be joined by edges.
   const int n = 17;
   const TriangleMesh grid = test::grid(n);
-  FeatureLines lines;
-  lines.offsets.assign(grid.vertex_count() + 1, 0);
-  const int row = n / 2;
-  for (std::uint32_t v = 0; v < grid.vertex_count(); ++v) {
-    const int i = static_cast<int>(v) / n, j = static_cast<int>(v) % n;
-    lines.offsets[v + 1] = lines.offsets[v];
-    if (i != row) continue;
-    if (j > 0) lines.neighbours.push_back(v - 1), ++lines.offsets[v + 1];
-    if (j + 1 < n) lines.neighbours.push_back(v + 1), ++lines.offsets[v + 1];
-  }
+  std::vector<std::array<std::uint32_t, 2>> row_edges;
+  for (int j = 0; j + 1 < n; ++j) row_edges.push_back({static_cast<std::uint32_t>(n / 2 * n + j), static_cast<std::uint32_t>(n / 2 * n + j + 1)});
+  const FeatureLines lines = FeatureLines::from_edges(grid.vertex_count(), row_edges);
   DecimateOptions options;
   options.target_vertices = 12;
   options.feature_lines = &lines;
@@ -202,13 +195,9 @@ TEST_CASE("Feature lines: random lines that cross survive a deep decimation as c
       at = to;
     }
   }
-  FeatureLines lines;
-  lines.offsets.assign(sphere.vertex_count() + 1, 0);
-  for (const auto& [a, b] : line_edges) ++lines.offsets[a + 1], ++lines.offsets[b + 1];
-  for (std::size_t v = 0; v < sphere.vertex_count(); ++v) lines.offsets[v + 1] += lines.offsets[v];
-  lines.neighbours.resize(lines.offsets.back());
-  std::vector<std::uint32_t> fill(lines.offsets.begin(), lines.offsets.end() - 1);
-  for (const auto& [a, b] : line_edges) lines.neighbours[fill[a]++] = b, lines.neighbours[fill[b]++] = a;
+  std::vector<std::array<std::uint32_t, 2>> edge_list;
+  for (const auto& [a, b] : line_edges) edge_list.push_back({a, b});
+  const FeatureLines lines = FeatureLines::from_edges(sphere.vertex_count(), edge_list);
 
   DecimateOptions options;
   options.target_vertices = 60;

@@ -23,6 +23,9 @@ struct FeatureLines {
   std::vector<std::uint32_t> offsets{0}, neighbours;
   std::vector<std::uint8_t> kink;  ///< per vertex (or empty): 1 for a kink with two neighbours
 
+  /// The graph of the undirected `edges` (each once) over `vertices` vertices, neighbours
+  /// sorted, no kinks.
+  static FeatureLines from_edges(std::size_t vertices, const std::vector<std::array<std::uint32_t, 2>>& edges);
   bool empty() const { return neighbours.empty(); }
   std::size_t edge_count() const { return neighbours.size() / 2; }
   std::uint32_t degree(std::uint32_t v) const { return v + 1 < offsets.size() ? offsets[v + 1] - offsets[v] : 0; }
@@ -36,7 +39,8 @@ struct FeatureLines {
 /// between corners of the graph of such edges and kinks (where it turns by more than
 /// `max_turn_degrees`), or round a closed loop. Chain length and smoothness keep out the sharp
 /// edges of scans and coarse organic meshes, which are noise, not lines. An empty result for
-/// min_angle_degrees <= 0 or >= 180.
+/// min_angle_degrees <= 0 or >= 180. \throw MeshError if `mesh` is not a manifold, consistently
+/// oriented triangle mesh (TriangleTopology::build()).
 FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degrees, std::size_t min_chain_edges,
                                 double max_turn_degrees = 180, double max_side_degrees = 180);
 
