@@ -220,7 +220,8 @@ class ModFeatureLinesT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   float collapse_priority(const CollapseInfo& ci) override {
     const auto& line = neighbours_[ci.v0.idx()];
     if (line.empty()) return float(Base::LEGAL_COLLAPSE);
-    if (line.size() != 2 || Base::mesh().status(ci.v0).locked()) return float(Base::ILLEGAL_COLLAPSE);  // a corner
+    // A corner or a kink (also locked, which is_collapse_legal() refuses before any module).
+    if (line.size() != 2) return float(Base::ILLEGAL_COLLAPSE);
     const int target = ci.v1.idx(), other = line[0] == target ? line[1] : line[0];
     if (line[0] != target && line[1] != target) return float(Base::ILLEGAL_COLLAPSE);
     const auto& beyond = neighbours_[other];

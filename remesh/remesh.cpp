@@ -223,11 +223,12 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
     // untangled with the rest.
     if (features.count() > 0) {
       const FoldOvers folds = find_fold_overs(placed.mesh->finest(), surface);
+      const std::vector<std::uint32_t>& finest = placed.mesh->hierarchy.triangles(placed.mesh->hierarchy.levels());
       bool released = false;
       for (const auto* list : {&folds.flipped, &folds.degenerate})
         for (const std::uint32_t f : *list)
           for (int i = 0; i < 3; ++i) {
-            const std::uint32_t v = placed.mesh->hierarchy.triangles(placed.mesh->hierarchy.levels())[3 * std::size_t{f} + i];
+            const std::uint32_t v = finest[3 * std::size_t{f} + i];
             released |= fixed[v] != 0;
             fixed[v] = 0;
           }
