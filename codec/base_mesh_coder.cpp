@@ -95,10 +95,54 @@ class EdgeSet {
 /// What the previous gate turned out to be: the context of the next gate's symbols.
 enum Previous : int { kWasNew = 0, kWasRight = 1, kWasLeft = 2, kWasOther = 3 };
 
+/// Initial probabilities of the decision models (FORMAT.md §4.1): P(bit = 0) = q / 256, as
+/// measured over the base meshes that `meshlift remesh` made of 20 meshes of Debian's
+/// libcgal-demo outside the development corpus (bunny00, bull, dino, …; the bits each
+/// decision took, (zeros + 1/2) / (decisions + 1) rounded to 1/256). 128: never taken there.
+/// Indexed [previous symbol][k] as the models are.
+constexpr std::uint8_t kBoundaryQ[4] = {252, 253, 255, 244};
+constexpr std::uint8_t kRightQ[4][6] = {{128, 255, 128, 128, 128, 128},
+                                        {128, 251, 250, 215, 152, 103},
+                                        {128, 128, 253, 231, 155, 92},
+                                        {128, 250, 254, 93, 76, 83}};
+constexpr std::uint8_t kLeftQ[4][6] = {{128, 128, 250, 211, 178, 103},
+                                       {128, 251, 230, 224, 176, 100},
+                                       {128, 128, 241, 234, 179, 106},
+                                       {128, 255, 250, 176, 163, 120}};
+constexpr std::uint8_t kNewVertexQ[4][6] = {{128, 128, 6, 1, 23, 29},
+                                            {128, 5, 77, 96, 28, 31},
+                                            {128, 128, 3, 21, 19, 27},
+                                            {128, 25, 28, 21, 37, 18}};
+constexpr std::uint8_t kStartNewQ = 1, kSplitLeftQ = 181, kSplitRightQ = 236;
+/// The update count a primed model starts at: it adapts at rate 1/8 at first instead of 1/2, so
+/// the prior is worth a few decisions, not one (FORMAT.md §7.3).
+constexpr std::uint8_t kPrimedCount = 4;
+
+constexpr BitModel primed(std::uint8_t q) {
+  BitModel model;
+  model.p = static_cast<std::uint16_t>(q * 128);
+  model.count = kPrimedCount;
+  return model;
+}
+
+/// The farthest a split vertex is looked for along the front, in open edges (FORMAT.md §4).
+constexpr std::uint32_t kMaxWalk = 64;
+
 /// The models of the traversal symbols (FORMAT.md §4), the gate symbols per previous symbol.
 struct Models {
-  BitModel boundary[4], right[4][6], left[4][6], new_vertex[4][6], start_new;
-  UintCoder index, vertex;
+  Models() {
+    for (int i = 0; i < 4; ++i) {
+      boundary[i] = primed(kBoundaryQ[i]);
+      for (int k = 0; k < 6; ++k) {
+        right[i][k] = primed(kRightQ[i][k]);
+        left[i][k] = primed(kLeftQ[i][k]);
+        new_vertex[i][k] = primed(kNewVertexQ[i][k]);
+      }
+    }
+  }
+  BitModel boundary[4], right[4][6], left[4][6], new_vertex[4][6];
+  BitModel start_new = primed(kStartNewQ), split_left = primed(kSplitLeftQ), split_right = primed(kSplitRightQ);
+  UintCoder index, vertex, walk_left, walk_right;
 };
 
 /// What encoder and decoder both know, in the new labels: the faces coded so far, their directed
@@ -150,6 +194,26 @@ class Front {
   const std::vector<std::uint32_t>& right(std::uint32_t a) const { return in_open_[a]; }
   /// Vertices x with an open edge b -> x (a face (b, a, x) closes against it: "left").
   const std::vector<std::uint32_t>& left(std::uint32_t b) const { return out_open_[b]; }
+  /// The vertex `steps` open edges along the front from v, leftwards (v -> x) or rightwards
+  /// (x -> v), each step along the oldest open edge of the vertex reached; kNone where the front
+  /// stops first.
+  std::uint32_t walk(std::uint32_t v, std::uint32_t steps, bool leftwards) const {
+    for (; steps > 0 && v != kNone; --steps) {
+      const std::vector<std::uint32_t>& next = leftwards ? out_open_[v] : in_open_[v];
+      v = next.empty() ? kNone : next.front();
+    }
+    return v;
+  }
+  /// The fewest steps of walk() from v that reach `target`, at most kMaxWalk; 0 if none do.
+  std::uint32_t steps_to(std::uint32_t v, std::uint32_t target, bool leftwards) const {
+    for (std::uint32_t steps = 1; steps <= kMaxWalk; ++steps) {
+      const std::vector<std::uint32_t>& next = leftwards ? out_open_[v] : in_open_[v];
+      if (next.empty()) return 0;
+      v = next.front();
+      if (v == target) return steps;
+    }
+    return 0;
+  }
 
   std::vector<std::uint32_t> faces;
   std::uint32_t seen = 0;  ///< vertices labelled so far; the next new vertex gets this label
@@ -242,10 +306,24 @@ std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles,
     if (!named) {
       encoder.encode(m.new_vertex[context][front.faces_at(b)], c == kNone);
       previous = c == kNone ? kWasNew : kWasOther;
-      if (c == kNone)
+      if (c == kNone) {
         c = new_label(c_old);
-      else
-        m.vertex.encode(encoder, front.seen - 1 - c);
+      } else {
+        // A split: c is on the front but not next to the gate, most often two open edges left
+        // of b or right of a; how far, else its label.
+        const std::uint32_t left = front.steps_to(b, c, true), right = front.steps_to(a, c, false);
+        const bool by_left = left != 0 && (right == 0 || left <= right);
+        encoder.encode(m.split_left, !by_left);
+        if (by_left) {
+          m.walk_left.encode(encoder, left - 2);
+        } else {
+          encoder.encode(m.split_right, right == 0);
+          if (right != 0)
+            m.walk_right.encode(encoder, right - 2);
+          else
+            m.vertex.encode(encoder, front.seen - 1 - c);
+        }
+      }
     }
     take_face(f, r, b, a, c);
   }
@@ -319,7 +397,22 @@ bool decode_faces(std::span<const std::uint8_t> bytes, std::uint32_t vertex_coun
     if (c == kNone) {
       if (!bit(m.new_vertex[context][front.faces_at(b)], s)) return false;
       previous = s ? kWasNew : kWasOther;
-      if (!(s ? fresh_vertex(c) : named_vertex(c))) return false;
+      if (s) {
+        if (!fresh_vertex(c)) return false;
+      } else {
+        // A split: two or more open edges left of b, or right of a, or a label.
+        int by_label = 0;
+        if (!bit(m.split_left, s)) return false;
+        if (s && !bit(m.split_right, by_label)) return false;
+        if (by_label) {
+          if (!named_vertex(c)) return false;
+        } else {
+          std::uint32_t steps = 0;
+          if (!(s ? m.walk_right : m.walk_left).decode(decoder, steps) || steps > kMaxWalk - 2) return false;
+          c = front.walk(s ? a : b, steps + 2, !s);
+          if (c == kNone) return false;
+        }
+      }
     }
     if (c == a || c == b || crosses_boundary(b, a, c) || !front.add_face(b, a, c)) return false;
   }

@@ -276,7 +276,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   for (std::size_t k = 0; k < 3; ++k) {
     lo[k] = lowest[k];
     hi[k] = highest[k];
-    header.center[k] = 0.5 * (lo[k] + hi[k]);
+    header.center[k] = header_float(0.5 * (lo[k] + hi[k]), "bounding-box centre", false);
   }
   double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                               (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -292,7 +292,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     for (int k = 0; k < c.components; ++k) {
       const std::size_t i = offset + static_cast<std::size_t>(k);
       const double low = lowest[i], high = highest[i];
-      hc.center.push_back(0.5 * (low + high));
+      hc.center.push_back(header_float(0.5 * (low + high), "channel centre", false));
       range = std::max(range, high - low);
     }
     hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
@@ -313,6 +313,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     std::vector<double> impulses;
     assign_large(impulses, V, 0.0);
     header.level_weights = level_weights(h, transform, impulses);
+    for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
   }
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder

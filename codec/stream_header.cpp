@@ -2,6 +2,8 @@
 
 #include <bit>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "base_values.h"
 #include "meshlift/byte_io.h"
@@ -16,6 +18,14 @@ constexpr std::uint8_t kKnownFlags = kFlagUpdate | kFlagLocalFrames | kFlagChann
 constexpr int kMaxTangentShift = 16;
 constexpr int kMaxChannels = 4;
 }  // namespace
+
+double header_float(double x, const char* what, bool positive) {
+  const double rounded = static_cast<double>(static_cast<float>(x));
+  if (!std::isfinite(rounded) || (positive && !(rounded >= std::numeric_limits<float>::min())))
+    throw MeshError(std::string("encode: the ") + what + " (" + std::to_string(x) +
+                    ") is outside the range of the header's floats (FORMAT.md §3): coordinates up to 3.4e38 in magnitude");
+  return rounded;
+}
 
 int StreamHeader::components() const {
   int k = zerotree::kGeometryComponents;
@@ -34,9 +44,11 @@ double StreamHeader::component_step(int c, int level) const {
 }
 
 // Layout (FORMAT.md §3): u8 scheme, u8 flags, u8 levels, u8 top_plane + 1, u8 base_plane, varint base vertices,
-// varint base faces, f64 step, 3 x f64 center, (levels + 1) x f64 level weights; if flag bit 1,
+// varint base faces, f64 step, 3 x f32 center, (levels + 1) x f32 level weights; if flag bit 1,
 // u8 tangent_shift; if flag bit 2, u8 channel count, then per channel u8 components, f64 step,
-// components x f64 center.
+// components x f32 center. The f32 values are doubles that the encoder has rounded to float
+// (header_float), so writing them as floats loses nothing; the steps stay doubles (a mesh near
+// the smallest floats has steps below them).
 std::vector<std::uint8_t> StreamHeader::write() const {
   ByteWriter w;
   w.u8(static_cast<std::uint8_t>(scheme));
@@ -47,16 +59,17 @@ std::vector<std::uint8_t> StreamHeader::write() const {
   w.u8(static_cast<std::uint8_t>(base_plane));
   w.varint(base_vertices);
   w.varint(base_faces);
+  auto f32 = [&w](double x) { w.u32(std::bit_cast<std::uint32_t>(static_cast<float>(x))); };
   w.u64(std::bit_cast<std::uint64_t>(step));
-  for (double c : center) w.u64(std::bit_cast<std::uint64_t>(c));
-  for (double weight : level_weights) w.u64(std::bit_cast<std::uint64_t>(weight));
+  for (double c : center) f32(c);
+  for (double weight : level_weights) f32(weight);
   if (local_frames) w.u8(static_cast<std::uint8_t>(tangent_shift));
   if (!channels.empty()) {
     w.u8(static_cast<std::uint8_t>(channels.size()));
     for (const ChannelQuantization& c : channels) {
       w.u8(static_cast<std::uint8_t>(c.components));
       w.u64(std::bit_cast<std::uint64_t>(c.step));
-      for (double x : c.center) w.u64(std::bit_cast<std::uint64_t>(x));
+      for (double x : c.center) f32(x);
     }
   }
   return w.take();
@@ -122,10 +135,15 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
     r.u64(bits);
     out = std::bit_cast<double>(bits);
   };
+  auto read_float = [&](double& out) {
+    std::uint32_t bits = 0;
+    r.u32(bits);
+    out = static_cast<double>(std::bit_cast<float>(bits));
+  };
   read_double(step);
-  for (double& c : center) read_double(c);
+  for (double& c : center) read_float(c);
   level_weights.resize(static_cast<std::size_t>(levels) + 1);
-  for (double& weight : level_weights) read_double(weight);
+  for (double& weight : level_weights) read_float(weight);
   tangent_shift = 0;
   if (local_frames) {
     std::uint8_t shift = 0;
@@ -159,7 +177,7 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
       c.components = components;
       read_double(c.step);
       c.center.resize(components);
-      for (double& x : c.center) read_double(x);
+      for (double& x : c.center) read_float(x);
       channels.push_back(std::move(c));
     }
   }

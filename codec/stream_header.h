@@ -11,6 +11,12 @@
 
 namespace meshlift {
 
+/// x as the header stores the centres and level weights (FORMAT.md §3: floats), back in a
+/// double. The encoder rounds them so before using them, so encoder and decoder use the same
+/// values. \throw MeshError naming `what` if the float is infinite or, where `positive`, below
+/// the smallest normal float (a weight must stay a positive number the decoder can scale by).
+double header_float(double x, const char* what, bool positive);
+
 struct StreamHeader {
   Scheme scheme = Scheme::loop;
   bool mean_preserving_update = false;

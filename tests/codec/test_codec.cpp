@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <set>
 #include <array>
@@ -283,7 +284,8 @@ TEST_CASE("a small file whose header refines a real base past the vertex limit i
   for (std::uint8_t b : {2, 0, 12, 1, 1}) head.u8(b);
   head.varint(12);
   head.varint(20);
-  for (int i = 0; i < 4 + 13; ++i) head.u64(std::bit_cast<std::uint64_t>(1.0));
+  head.u64(std::bit_cast<std::uint64_t>(1.0));                                  // step
+  for (int i = 0; i < 3 + 13; ++i) head.u32(std::bit_cast<std::uint32_t>(1.0f));  // centre, weights
   ContainerWriter writer;
   writer.add_chunk(kTagHeader, head.data());
   writer.add_chunk(kTagBaseMesh, reader.chunks()[1].payload);
@@ -298,19 +300,20 @@ TEST_CASE("a small file whose header refines a real base past the vertex limit i
 
 TEST_CASE("header parameters that would overflow a decode are refused", "[codec][robust]") {
   // A valid stream's BASE and COEF behind a hand-written HEAD whose step is huge and weights tiny:
-  // every decoded coefficient would be infinite. Also bad frame and channel fields.
+  // every decoded coefficient would be infinite; or whose step or weights are not positive
+  // finite numbers. Also bad frame and channel fields.
   const auto valid = encode(bumpy(test::icosahedron(), 1), {});
   ContainerReader reader;
   REQUIRE(reader.parse(valid) == Status::ok);
-  auto with_head = [&](std::uint8_t flags, double step, double weight, const std::vector<std::uint8_t>& tail,
+  auto with_head = [&](std::uint8_t flags, double step, float weight, const std::vector<std::uint8_t>& tail,
                        std::uint8_t plane_byte = 20, std::uint8_t base_plane = 20, std::uint64_t base_vertices = 12) {
     ByteWriter head;
     for (std::uint8_t b : {std::uint8_t{1}, flags, std::uint8_t{1}, plane_byte, base_plane}) head.u8(b);
     head.varint(base_vertices);
     head.varint(20);
     head.u64(std::bit_cast<std::uint64_t>(step));
-    for (int i = 0; i < 3; ++i) head.u64(std::bit_cast<std::uint64_t>(0.0));
-    for (int i = 0; i < 2; ++i) head.u64(std::bit_cast<std::uint64_t>(weight));
+    for (int i = 0; i < 3; ++i) head.u32(std::bit_cast<std::uint32_t>(0.0f));
+    for (int i = 0; i < 2; ++i) head.u32(std::bit_cast<std::uint32_t>(weight));
     for (std::uint8_t b : tail) head.u8(b);
     ContainerWriter writer;
     writer.add_chunk(kTagHeader, head.data());
@@ -319,9 +322,17 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
     return decode(writer.finish());
   };
   CHECK(with_head(0, 1e-3, 1.0, {}).status == Status::ok);  // the same bytes with sane parameters decode
-  const DecodeResult overflow = with_head(0, 1e300, 1e-300, {});
+  const DecodeResult overflow = with_head(0, 1e300, std::numeric_limits<float>::denorm_min(), {});
   CHECK(overflow.status == Status::corrupt);
   CHECK_THAT(overflow.message, Catch::Contains("range"));
+  for (const auto& [step, weight] : {std::pair{std::numeric_limits<double>::infinity(), 1.0f},
+                                     std::pair{std::numeric_limits<double>::quiet_NaN(), 1.0f}, std::pair{1e-3, 0.0f},
+                                     std::pair{1e-3, -1.0f}, std::pair{1e-3, std::numeric_limits<float>::infinity()},
+                                     std::pair{-1e-3, 1.0f}}) {
+    const DecodeResult bad = with_head(0, step, weight, {});
+    CHECK(bad.status == Status::corrupt);
+    CHECK_THAT(bad.message, Catch::Contains("non-finite or non-positive"));
+  }
   CHECK(with_head(2, 1e-3, 1.0, {17}).status == Status::corrupt);  // tangent shift above 16
   CHECK(with_head(2, 1e-3, 1.0, {}).status == Status::corrupt);    // frame flag without its byte
   CHECK(with_head(4, 1e-3, 1.0, {5}).status == Status::corrupt);   // 5 channels
@@ -357,16 +368,16 @@ std::vector<std::uint8_t> golden_stream(const std::string& name, const std::vect
 
 }  // namespace
 
-TEST_CASE("golden stream: format version 4 is frozen", "[codec][golden]") {
+TEST_CASE("golden stream: format version 5 is frozen", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field, Loop, 12 bits.
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 2);
   EncodeOptions options;
   options.precision_bits = 12;
   options.local_frames = false;  // flags 0
   const auto file = encode(mesh, options);
-  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v4.mlz", file);
+  const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v5.mlz", file);
   CHECK(file == golden);
-  CHECK(golden[4] == 4);
+  CHECK(golden[4] == 5);
   CHECK(inspect(golden).base_plane <= inspect(golden).top_plane);  // it has a base part (FORMAT.md §5.1)
   const DecodeResult a = decode(golden), b = decode(golden);
   REQUIRE(a.status == Status::ok);
@@ -377,13 +388,15 @@ TEST_CASE("golden stream: format version 4 is frozen", "[codec][golden]") {
   CHECK(rms_error(a.mesh.positions, mesh.positions) < std::ldexp(1.0, -12) * bounding_box_diagonal(mesh.positions));
 }
 
-TEST_CASE("golden stream: streams of format versions 1 to 3 are refused with unsupported_version", "[codec][golden]") {
-  // The stream above as versions 1 to 3 wrote it (kept as artifacts, never regenerated): version
+TEST_CASE("golden stream: streams of format versions 1 to 4 are refused with unsupported_version", "[codec][golden]") {
+  // The stream above as versions 1 to 4 wrote it (kept as artifacts, never regenerated): version
   // 2 coded the coefficients with other contexts than 1, version 3 added a header field and the
-  // base part, version 4 predicts the base part otherwise (FORMAT.md change log). Decoding them
-  // as version 4 would give a wrong mesh.
+  // base part, version 4 predicts the base part otherwise, version 5 stores the header's
+  // parameters as floats and codes the base mesh otherwise (FORMAT.md change log). Decoding them
+  // as version 5 would give a wrong mesh.
   for (const auto& [name, version] : {std::pair{"icosahedron_loop_L2_p12.mlz", 1}, std::pair{"icosahedron_loop_L2_p12_v2.mlz", 2},
-                                      std::pair{"icosahedron_loop_L2_p12_v3.mlz", 3}}) {
+                                      std::pair{"icosahedron_loop_L2_p12_v3.mlz", 3},
+                                      std::pair{"icosahedron_loop_L2_p12_v4.mlz", 4}}) {
     std::ifstream in(std::string(MESHLIFT_SOURCE_DIR) + "/tests/golden/" + name, std::ios::binary);
     REQUIRE(in.good());
     const std::vector<std::uint8_t> old{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

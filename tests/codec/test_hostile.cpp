@@ -176,7 +176,8 @@ TEST_CASE("hostile: a base chunk too short for its declared faces is refused bef
   for (std::uint8_t b : {std::uint8_t{2}, std::uint8_t{0}, std::uint8_t{0}, std::uint8_t{1}, std::uint8_t{1}}) head.u8(b);
   head.varint(std::uint64_t{1} << 22);
   head.varint(std::uint64_t{1} << 23);
-  for (int i = 0; i < 5; ++i) head.u64(std::bit_cast<std::uint64_t>(1.0));
+  head.u64(std::bit_cast<std::uint64_t>(1.0));                              // step
+  for (int i = 0; i < 4; ++i) head.u32(std::bit_cast<std::uint32_t>(1.0f));  // centre, weight
   ContainerWriter writer;
   writer.add_chunk(kTagHeader, head.data());
   writer.add_chunk(kTagBaseMesh, std::vector<std::uint8_t>(100, 0));

@@ -22,7 +22,7 @@ namespace container {
 inline constexpr std::uint8_t kMagic[4] = {'M', 'L', 'Z', 0x1A};
 /// The only version this build reads and writes (FORMAT.md change log: each version changed how
 /// the coefficients are coded, so an older stream is refused, not misread).
-inline constexpr std::uint8_t kFormatVersion = 4;
+inline constexpr std::uint8_t kFormatVersion = 5;
 inline constexpr std::size_t kFileHeaderBytes = 8;
 inline constexpr std::size_t kChecksumBytes = 4;
 /// Smallest possible chunk: tag, one-byte length 0, checksum.
