@@ -249,8 +249,7 @@ std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles,
   std::vector<char> coded(F, 0);
   CodingOrder local;
   CodingOrder& out = order ? *order : local;
-  out.face.clear();
-  out.rotation.clear();
+  out = CodingOrder{};
   auto take_face = [&](std::uint32_t f, std::uint32_t rotation, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     front.add_face(a, b, c);
     out.face.push_back(f);
@@ -316,12 +315,16 @@ std::vector<std::uint8_t> encode_faces(std::span<const std::uint32_t> triangles,
         encoder.encode(m.split_left, !by_left);
         if (by_left) {
           m.walk_left.encode(encoder, left - 2);
+          ++out.left_walks;
         } else {
           encoder.encode(m.split_right, right == 0);
-          if (right != 0)
+          if (right != 0) {
             m.walk_right.encode(encoder, right - 2);
-          else
+            ++out.right_walks;
+          } else {
             m.vertex.encode(encoder, front.seen - 1 - c);
+            ++out.split_labels;
+          }
         }
       }
     }

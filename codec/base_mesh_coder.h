@@ -3,12 +3,13 @@
 // newest gate first (so the traversal spirals like Edgebreaker's); for each gate one symbol says
 // what lies across it: the boundary, a face whose third vertex closes the front on the right or
 // on the left (an open edge at a gate vertex), a face with a vertex never seen before, or
-// (rarely: where the front touches itself) any other vertex, coded as how many labels back it
-// was given. Contexts: the previous symbol and the faces already around the gate vertex. Vertices
+// (rarely: where the front touches itself) any other vertex, coded as how many open edges along
+// the front from the gate it lies (most often two), else as how many labels back it was given. Contexts: the previous symbol and the faces already around the gate vertex. Vertices
 // are numbered in the order the traversal first meets them and faces in the order it codes them,
 // so a new vertex costs only its symbol: `canonical_order` (codec.h) puts a mesh in that order.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -35,6 +36,9 @@ class UintCoder {
 /// (vertices no face uses get the last labels, in their old order).
 struct CodingOrder {
   std::vector<std::uint32_t> face, rotation, label;
+  /// How the split vertices were coded (FORMAT.md §4): by a walk left of the gate, right of it,
+  /// or by their label.
+  std::size_t left_walks = 0, right_walks = 0, split_labels = 0;
 };
 
 /// Codes the faces (which must form a manifold, consistently oriented mesh over `vertex_count`

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An independent reference decoder for meshlift streams (.mlz), format version 4.
+"""An independent reference decoder for meshlift streams (.mlz), format version 5.
 
 Written from bitstream/FORMAT.md and docs/WAVELETS.md without the meshlift sources, to test the
 format document's claim that a stranger can write a compatible decoder; what those two documents
@@ -9,7 +9,10 @@ beta_n from Loop 1987 (as OpenMesh's LoopT has it). Standard library only (runs 
 /usr/bin/python3). Plain and slow on purpose: one function per section of the specification,
 each naming the section it implements. (Written for version 2 by someone who had not seen the
 sources; the version-3 base part, §5.1, was added from the document by its author, the
-version-4 prediction (the mean of the parallelograms) from the new §5.1 by the author of that change.)
+version-4 prediction (the mean of the parallelograms) from the new §5.1 by the author of that change.
+The version-5 changes, the f32 centres and weights of §3 and §4's split vertices coded by walks
+along the front with primed decision models, were added from the document alone, without the
+sources.)
 
     reference_decoder.py IN.mlz -o OUT.off|OUT.obj [--bytes N] [--level K]
 
@@ -74,7 +77,7 @@ def read_varint(data, pos):
 # ---------------------------------------------------------------------------------------------
 
 MAGIC = b'MLZ\x1a'
-FORMAT_VERSION = 4
+FORMAT_VERSION = 5
 
 
 def read_file_header(data):
@@ -384,6 +387,14 @@ def read_header(payload):
         pos += 8
         return value
 
+    def f32():
+        """§3: IEEE binary32, little-endian, used as the binary64 of the same value."""
+        nonlocal pos
+        need(4)
+        value = struct.unpack_from('<f', payload, pos)[0]
+        pos += 4
+        return value
+
     def u8():
         nonlocal pos
         need(1)
@@ -421,8 +432,8 @@ def read_header(payload):
         raise DecodeError('limit_exceeded', 'header claims %d base vertices and %d base faces'
                           % (h.base_vertices, h.base_faces))
     h.step = f64()
-    h.center = [f64(), f64(), f64()]
-    h.weights = [f64() for _ in range(levels + 1)]
+    h.center = [f32(), f32(), f32()]
+    h.weights = [f32() for _ in range(levels + 1)]
     h.tangent_shift = 0
     if h.local_frames:
         h.tangent_shift = u8()
@@ -440,7 +451,7 @@ def read_header(payload):
             if m < 1 or total > 4:
                 raise DecodeError('corrupt', 'channel components')
             step = f64()
-            centre = [f64() for _ in range(m)]
+            centre = [f32() for _ in range(m)]
             h.channels.append((m, step, centre))
     if pos != len(payload):
         raise DecodeError('corrupt', 'header chunk has %d unexpected trailing bytes'
@@ -500,9 +511,9 @@ class Model:
     """§7.3: an adaptive bit model: probability of a 0 in units of 2^-15, and a count."""
     __slots__ = ('p', 'count', 'count_max')
 
-    def __init__(self, count_max=COUNT_MAX):
-        self.p = HALF
-        self.count = 0
+    def __init__(self, count_max=COUNT_MAX, p=HALF, count=0):
+        self.p = p
+        self.count = count
         self.count_max = count_max
 
     def update(self, bit):
@@ -605,6 +616,30 @@ class IntegerCoder:
 
 NEW, RIGHT, LEFT, OTHER = 0, 1, 2, 3
 
+# §4: the decision models start primed, p = 128·q and count = 4, with q from these tables
+# (indexed [previous][k] like the models).
+PRIME_BOUNDARY = [252, 253, 255, 244]
+PRIME_RIGHT = [[128, 255, 128, 128, 128, 128],
+               [128, 251, 250, 215, 152, 103],
+               [128, 128, 253, 231, 155, 92],
+               [128, 250, 254, 93, 76, 83]]
+PRIME_LEFT = [[128, 128, 250, 211, 178, 103],
+              [128, 251, 230, 224, 176, 100],
+              [128, 128, 241, 234, 179, 106],
+              [128, 255, 250, 176, 163, 120]]
+PRIME_NEW_VERTEX = [[128, 128, 6, 1, 23, 29],
+                    [128, 5, 77, 96, 28, 31],
+                    [128, 128, 3, 21, 19, 27],
+                    [128, 25, 28, 21, 37, 18]]
+PRIME_START_NEW, PRIME_SPLIT_LEFT, PRIME_SPLIT_RIGHT = 1, 181, 236
+PRIME_COUNT = 4
+MAX_WALK = 64   # the encoder walks at most 64 steps: a decoded walk length is at most 62 (+ 2)
+
+
+def primed(q):
+    """§4, §7.3: a decision model primed with p = 128·q and count = 4."""
+    return Model(p=128 * q, count=PRIME_COUNT)
+
 
 def decode_base_mesh(payload, h):
     """§4: the face-by-face traversal. Returns the base faces (labels in first-use order)."""
@@ -620,13 +655,17 @@ def decode_base_mesh(payload, h):
 
 
 def _decode_traversal(rc, V0, F0):
-    boundary = [Model() for _ in range(4)]
-    right = [[Model() for _ in range(6)] for _ in range(4)]
-    left = [[Model() for _ in range(6)] for _ in range(4)]
-    new_vertex = [[Model() for _ in range(6)] for _ in range(4)]
-    start_new = Model()
+    boundary = [primed(q) for q in PRIME_BOUNDARY]
+    right = [[primed(q) for q in row] for row in PRIME_RIGHT]
+    left = [[primed(q) for q in row] for row in PRIME_LEFT]
+    new_vertex = [[primed(q) for q in row] for row in PRIME_NEW_VERTEX]
+    start_new = primed(PRIME_START_NEW)
+    split_left = primed(PRIME_SPLIT_LEFT)
+    split_right = primed(PRIME_SPLIT_RIGHT)
     index = IntegerCoder()
     vertex = IntegerCoder()
+    walk_left = IntegerCoder()
+    walk_right = IntegerCoder()
 
     faces = []
     coded = set()
@@ -659,6 +698,17 @@ def _decode_traversal(rc, V0, F0):
 
     def k(v):
         return min(faces_at[v], 5)
+
+    def walk(v, coder, lists):
+        """§4: n = coder's value + 2 steps along the front, each by the oldest open edge."""
+        value = coder.decode(rc)
+        if value > MAX_WALK - 2:
+            raise DecodeError('corrupt', 'base mesh split walk of %d steps' % (value + 2))
+        for _ in range(value + 2):
+            if not lists[v]:
+                raise DecodeError('corrupt', 'base mesh split walk leaves the front')
+            v = lists[v][0]
+        return v
 
     previous = OTHER
     while len(faces) < F0:
@@ -705,10 +755,16 @@ def _decode_traversal(rc, V0, F0):
                 seen += 1
                 previous = NEW
             else:
-                c = seen - 1 - vertex.decode(rc)
-                if c < 0:
-                    raise DecodeError('corrupt', 'base mesh refers to an unseen vertex')
+                # a split: c is elsewhere on the front (a walk from b or a), or a label
                 previous = OTHER
+                if rc.decode_bit(split_left) == 0:
+                    c = walk(b, walk_left, out_open)
+                elif rc.decode_bit(split_right) == 0:
+                    c = walk(a, walk_right, in_open)
+                else:
+                    c = seen - 1 - vertex.decode(rc)
+                    if c < 0:
+                        raise DecodeError('corrupt', 'base mesh refers to an unseen vertex')
         if c == a or c == b:
             raise DecodeError('corrupt', 'base face with a repeated corner')
         add_face(b, a, c)

@@ -5,11 +5,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <array>
 #include <bit>
 
+#include "../../codec/base_mesh_coder.h"
 #include "../../codec/base_values.h"
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
@@ -256,6 +258,65 @@ TEST_CASE("base connectivity costs a few bits per base vertex", "[codec]") {
     std::printf("base connectivity, %s (%zu vertices): %.2f bits per vertex\n", name, base.vertex_count(), bits);
     if (base.vertex_count() > 100) CHECK(bits < 1.5);  // regular meshes; the first face-list coder took 38
   }
+}
+
+namespace {
+
+/// `mesh` with about `flips` random edge flips (each keeping it manifold and every valence >= 3):
+/// the irregular valences of a decimated base, whose front touches itself (FORMAT.md §4 splits).
+TriangleMesh flipped(TriangleMesh mesh, int flips, std::uint32_t seed) {
+  std::mt19937 random(seed);
+  std::vector<int> valence(mesh.vertex_count(), 0);
+  for (const std::uint32_t v : mesh.triangles) ++valence[v];
+  for (int i = 0; i < flips; ++i) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> corner;  // directed edge -> 3 face + corner
+    for (std::uint32_t c = 0; c < mesh.triangles.size(); ++c)
+      corner[{mesh.triangles[c], mesh.triangles[c - c % 3 + (c + 1) % 3]}] = c;
+    const std::uint32_t c = std::uniform_int_distribution<std::uint32_t>(0, static_cast<std::uint32_t>(mesh.triangles.size() - 1))(random);
+    const std::uint32_t f1 = c / 3, u = mesh.triangles[c], v = mesh.triangles[3 * f1 + (c + 1) % 3];
+    const std::uint32_t a = mesh.triangles[3 * f1 + (c + 2) % 3];
+    const auto twin = corner.find({v, u});
+    if (twin == corner.end()) continue;
+    const std::uint32_t f2 = twin->second / 3, b = mesh.triangles[3 * f2 + (twin->second + 2) % 3];
+    if (a == b || corner.contains({a, b}) || corner.contains({b, a}) || valence[u] <= 3 || valence[v] <= 3) continue;
+    // (u, v, a), (v, u, b) -> (u, b, a), (v, a, b)
+    for (int k = 0; k < 3; ++k) mesh.triangles[3 * f1 + k] = std::array{u, b, a}[k];
+    for (int k = 0; k < 3; ++k) mesh.triangles[3 * f2 + k] = std::array{v, a, b}[k];
+    --valence[u], --valence[v], ++valence[a], ++valence[b];
+  }
+  return mesh;
+}
+
+}  // namespace
+
+TEST_CASE("base mesh: split vertices coded by walks along the front round trip", "[codec]") {
+  // FORMAT.md §4. Irregular spheres and tori: their traversals meet split vertices two or more
+  // open edges left of the gate, right of it, and beyond the walk (by label); every kind must
+  // occur over these meshes, and each mesh must decode to its own faces.
+  std::size_t left = 0, right = 0, labels = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    const TriangleMesh mesh = flipped(seed % 2 ? test::icosphere(3) : test::torus(24, 16), 400, seed);
+    base_mesh::CodingOrder order;
+    const std::vector<std::uint8_t> bytes = base_mesh::encode_faces(mesh.triangles, static_cast<std::uint32_t>(mesh.vertex_count()), &order);
+    left += order.left_walks, right += order.right_walks, labels += order.split_labels;
+    std::vector<std::uint32_t> decoded;
+    REQUIRE(base_mesh::decode_faces(bytes, static_cast<std::uint32_t>(mesh.vertex_count()), static_cast<std::uint32_t>(mesh.face_count()), decoded));
+    // Face k of the decode is old face order.face[k] from corner order.rotation[k], relabelled.
+    REQUIRE(decoded.size() == mesh.triangles.size());
+    for (std::size_t k = 0; k < mesh.face_count(); ++k)
+      for (std::uint32_t i = 0; i < 3; ++i)
+        REQUIRE(decoded[3 * k + i] == order.label[mesh.triangles[3 * order.face[k] + (order.rotation[k] + i) % 3]]);
+    // A cut anywhere in the stream is an error, never a wrong mesh.
+    for (std::size_t n = 0; n < bytes.size(); n += 3) {
+      std::vector<std::uint32_t> partial;
+      CHECK_FALSE(base_mesh::decode_faces(std::span(bytes.data(), n), static_cast<std::uint32_t>(mesh.vertex_count()),
+                                          static_cast<std::uint32_t>(mesh.face_count()), partial));
+    }
+  }
+  std::printf("base mesh splits over 6 irregular meshes: %zu left walks, %zu right walks, %zu labels\n", left, right, labels);
+  CHECK(left > 0);
+  CHECK(right > 0);
+  CHECK(labels > 0);
 }
 
 TEST_CASE("a tiny file claiming huge counts is rejected before allocating", "[codec][robust]") {

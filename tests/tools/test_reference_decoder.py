@@ -19,6 +19,12 @@ Why not exact: `meshlift decode` writes positions as float32 (9 significant digi
 decoder computes in double; the float32 rounding is the first term. The second covers values that
 should be 0 and come out as ±1e-17 of a unit-size mesh in either decoder, because the two sum a
 stencil's terms in different orders (doubles, 1e-16 relative).
+Each whole stream must also get the status its version byte calls for, from both decoders: `ok` at
+the current format version (reference_decoder.FORMAT_VERSION, 5: icosahedron_loop_L2_p12_v5.mlz,
+the frames-and-channels golden), `unsupported_version` at an older one (FORMAT.md §1:
+icosahedron_loop_L2_p12.mlz is version 1, the `_vN` goldens version N, up to `_v4`); a `_vN` name
+must match the version byte, and the streams named on the command line must include one of the
+current version.
 Exit 0 when everything agrees, 1 otherwise; prints one line per disagreement and a summary.
 """
 
@@ -34,6 +40,25 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'
 import reference_decoder  # noqa: E402
 
 STATUS_PATTERN = re.compile(r': ([a-z_]+) \(error (\d+)\)')
+VERSION_IN_NAME = re.compile(r'_v(\d+)\.mlz$')
+
+
+def version_problems(path, data):
+    """The whole-stream expectations FORMAT.md §1 sets by version: [(what, expected status)] and
+    a list of problems with the stream itself (a `_vN` name that is not version N)."""
+    if len(data) < 8 or data[:4] != reference_decoder.MAGIC:
+        return None, ['%s: not a meshlift file' % path]
+    version = data[4]
+    problems = []
+    match = VERSION_IN_NAME.search(os.path.basename(path))
+    if match and int(match.group(1)) != version:
+        problems.append('%s: named version %s, version byte %d' % (path, match.group(1), version))
+    if version == reference_decoder.FORMAT_VERSION:
+        return 'ok', problems
+    if version < reference_decoder.FORMAT_VERSION:
+        return 'unsupported_version', problems
+    return None, problems + ['%s: version %d is newer than the reference decoder\'s %d'
+                             % (path, version, reference_decoder.FORMAT_VERSION)]
 
 
 def read_off(path):
@@ -134,9 +159,11 @@ def damaged_copies(data):
     flipped[-6] ^= 0x20
     base = bytearray(chunks[1][1])
     base[len(base) // 2] ^= 0x5A
+    older = reference_decoder.FORMAT_VERSION - 1
     return [
         ('bad magic', b'MLZ\x1b' + data[4:]),
-        ('version 3', data[:4] + b'\x03' + data[5:]),
+        ('version %d' % older, data[:4] + bytes([older]) + data[5:]),
+        ('version %d' % (older + 2), data[:4] + bytes([older + 2]) + data[5:]),
         ('file header flags', data[:5] + b'\x01' + data[6:]),
         ('payload byte flipped', bytes(flipped)),
         ('unknown scheme', with_head(0, 3)),
@@ -227,12 +254,25 @@ def main(argv):
     cases = failures = 0
     largest = 0.0
     statuses = {}
+    current = 0   # streams named on the command line at the current format version
+    named = len(streams)
     with tempfile.TemporaryDirectory() as workdir:
         if '--generate' in argv:
             streams += generate_streams(meshlift, workdir)
-        for stream in streams:
+        for number, stream in enumerate(streams):
             with open(stream, 'rb') as f:
                 data = f.read()
+            expected_status, problems = version_problems(stream, data)
+            if number < named and expected_status == 'ok':
+                current += 1
+            for (who, status) in (('C++', cpp_decode(meshlift, stream, workdir)[0]),
+                                  ('reference', reference_decode(data)[0])):
+                if expected_status is not None and status != expected_status:
+                    problems.append('%s: version %d, %s decoder gives %s, expected %s'
+                                    % (stream, data[4], who, status, expected_status))
+            for problem in problems:
+                failures += 1
+                print(problem)
             todo = [(stream, None, data)]
             if with_damage and reference_decode(data)[0] == 'ok':
                 for (what, damaged) in damaged_copies(data):
@@ -264,6 +304,10 @@ def main(argv):
                     failures += 1
                     print('%s%s: %s' % (name, '' if n in (None, 'file') else ' --bytes %d' % n,
                                         problem))
+    if named and not current:
+        failures += 1
+        print('no stream named on the command line is of the current format version %d'
+              % reference_decoder.FORMAT_VERSION)
     print('%d cases (%s), %d disagreements, largest position difference %.3g'
           % (cases, ', '.join('%s %d' % kv for kv in sorted(statuses.items())), failures, largest))
     return 1 if failures else 0
