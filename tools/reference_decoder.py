@@ -380,20 +380,19 @@ def read_header(payload):
         if pos + n > len(payload):
             raise DecodeError('corrupt', 'header chunk too short')
 
-    def f64():
+    def number(fmt, size):
         nonlocal pos
-        need(8)
-        value = struct.unpack_from('<d', payload, pos)[0]
-        pos += 8
+        need(size)
+        value = struct.unpack_from(fmt, payload, pos)[0]
+        pos += size
         return value
+
+    def f64():
+        return number('<d', 8)
 
     def f32():
         """§3: IEEE binary32, little-endian, used as the binary64 of the same value."""
-        nonlocal pos
-        need(4)
-        value = struct.unpack_from('<f', payload, pos)[0]
-        pos += 4
-        return value
+        return number('<f', 4)
 
     def u8():
         nonlocal pos
