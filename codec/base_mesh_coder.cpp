@@ -95,7 +95,7 @@ class EdgeSet {
 /// What the previous gate turned out to be: the context of the next gate's symbols.
 enum Previous : int { kWasNew = 0, kWasRight = 1, kWasLeft = 2, kWasOther = 3 };
 
-/// Initial probabilities of the decision models (FORMAT.md §4.1): P(bit = 0) = q / 256, as
+/// Initial probabilities of the decision models (FORMAT.md §4, its table of q): P(bit = 0) = q / 256, as
 /// measured over the base meshes that `meshlift remesh` made of 20 meshes of Debian's
 /// libcgal-demo outside the development corpus (bunny00, bull, dino, …; the bits each
 /// decision took, (zeros + 1/2) / (decisions + 1) rounded to 1/256). 128: never taken there.

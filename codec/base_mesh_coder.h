@@ -4,9 +4,11 @@
 // what lies across it: the boundary, a face whose third vertex closes the front on the right or
 // on the left (an open edge at a gate vertex), a face with a vertex never seen before, or
 // (rarely: where the front touches itself) any other vertex, coded as how many open edges along
-// the front from the gate it lies (most often two), else as how many labels back it was given. Contexts: the previous symbol and the faces already around the gate vertex. Vertices
-// are numbered in the order the traversal first meets them and faces in the order it codes them,
-// so a new vertex costs only its symbol: `canonical_order` (codec.h) puts a mesh in that order.
+// the front from the gate it lies (most often two), else as how many labels back it was given.
+// Contexts: the previous symbol and the faces already around the gate vertex; the models start
+// from probabilities measured on decimated bases. Vertices are numbered in the order the
+// traversal first meets them and faces in the order it codes them, so a new vertex costs only its
+// symbol: `canonical_order` (codec.h) puts a mesh in that order.
 #pragma once
 
 #include <cstddef>

@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -21,9 +22,12 @@ constexpr int kMaxChannels = 4;
 
 double header_float(double x, const char* what, bool positive) {
   const double rounded = static_cast<double>(static_cast<float>(x));
-  if (!std::isfinite(rounded) || (positive && !(rounded >= std::numeric_limits<float>::min())))
-    throw MeshError(std::string("encode: the ") + what + " (" + std::to_string(x) +
+  if (!std::isfinite(rounded) || (positive && !(rounded >= std::numeric_limits<float>::min()))) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", x);
+    throw MeshError(std::string("encode: the ") + what + " (" + value +
                     ") is outside the range of the header's floats (FORMAT.md §3): coordinates up to 3.4e38 in magnitude");
+  }
   return rounded;
 }
 

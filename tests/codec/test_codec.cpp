@@ -319,6 +319,20 @@ TEST_CASE("base mesh: split vertices coded by walks along the front round trip",
   CHECK(labels > 0);
 }
 
+TEST_CASE("coordinates beyond the header's floats are refused by the encoder", "[codec][robust]") {
+  // FORMAT.md §3 stores the centre as a float: a mesh centred beyond 3.4e38 cannot be coded; the
+  // encoder says so instead of writing an infinite centre. Within range, the centre it writes is
+  // the float it used, and the mesh round-trips within the quantization bound.
+  SemiRegularMesh far = bumpy(test::icosahedron(), 1);
+  for (std::size_t i = 0; i < far.positions.size(); i += 3) far.positions[i] += 1e39;
+  CHECK_THROWS_WITH(encode(far, {}), Catch::Contains("bounding-box centre") && Catch::Contains("header's floats"));
+  SemiRegularMesh offset = bumpy(test::icosahedron(), 1);
+  for (std::size_t i = 0; i < offset.positions.size(); i += 3) offset.positions[i] += 1000.1;
+  const DecodeResult r = decode(encode(offset, {}));
+  REQUIRE(r.status == Status::ok);
+  CHECK(rms_error(r.mesh.positions, offset.positions) < 1e-3 * bounding_box_diagonal(offset.positions));
+}
+
 TEST_CASE("a tiny file claiming huge counts is rejected before allocating", "[codec][robust]") {
   // HEAD: linear, no flags, 12 levels, plane 31, no base part, 2^40 base vertices and faces:
   // limit_exceeded.
