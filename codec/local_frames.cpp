@@ -37,7 +37,7 @@ struct Scratch {
 
 // One block's frames of the regular case, component by component: n normalized, t1, t2, and the
 // lengths. Every value is computed by the same IEEE operations, in the same order, as the scalar
-// formulas of FORMAT.md §3: packed square roots and divisions round exactly as scalar ones (no
+// formulas of FORMAT.md §5: packed square roots and divisions round exactly as scalar ones (no
 // FMA: each product is rounded before its sum), so the bits are those of an edge-by-edge loop.
 // Entries [0, count) rounded up to a multiple of kLanes (the spare ones are not used).
 #if defined(MESHLIFT_FRAMES_AVX)
@@ -197,7 +197,10 @@ void frame_blocks(const Level& level, std::span<const double> coarse, std::size_
     compute(block, scratch, count);
     for (std::uint32_t i = 0; i < count; ++i) {
       const double length = scratch.length[i];
-      block.identity[i] = !(length > 0) || !std::isfinite(length);  // identity frame: (x, y, z) stay
+      // Identity frame, (x, y, z) stay: a normal sum at rounding-noise level against the edge's
+      // squared length (FORMAT.md §5: where the faces' normals cancel, as on a symmetric mesh
+      // partly decoded, its direction would be set by the last bits of the positions).
+      block.identity[i] = !(length > kNormalFloor * scratch.edge_squared[i]) || !std::isfinite(length);
       if (!block.identity[i] && edge_along_normal(scratch.t1_length[i], scratch.edge_squared[i])) [[unlikely]] {
         // The edge is (nearly) along the normal, or has no length: use the axis least aligned with n.
         const Vec n{block.nx[i], block.ny[i], block.nz[i]};

@@ -2,7 +2,7 @@
 // normal meshes, Guskov et al. 2000; V-DMC codes normal-only displacements by default,
 // CODEC-NOTES §8). A detail of a remeshed surface points mostly along the surface normal: in
 // x, y, z all three components carry it, in a (normal, tangent, tangent) frame one does, and the
-// two tangential ones may be quantized more coarsely (FORMAT.md §3, tangent_shift).
+// two tangential ones may be quantized more coarsely (FORMAT.md §3, tangent_shift; the frames: §5).
 //
 // The frame of the odd vertex on edge e = (a, b) of level j is computed from the mesh of level
 // j alone, which both sides hold before level j + 1 is synthesized (the decoder exactly so at
@@ -30,7 +30,10 @@ enum class Direction {
   to_global,  ///< (n, t1, t2) -> (x, y, z): d = R d_local
 };
 
-/// FORMAT.md §3's test for an edge (nearly) along the normal, !(|t1| > 1e-12 |edge|), given |t1|
+/// FORMAT.md §5: a frame is the identity unless |N_a + N_b| > kNormalFloor · (edge · edge).
+inline constexpr double kNormalFloor = 1e-12;
+
+/// FORMAT.md §5's test for an edge (nearly) along the normal, !(|t1| > 1e-12 |edge|), given |t1|
 /// and edge . edge, with |edge| = sqrt(edge . edge) computed only where the answer is in doubt.
 /// When |t1|^2 > 4e-24 |edge|^2 (both sides rounded, |edge|^2 a normal double), |t1| > 2e-12
 /// |edge| (1 - 2^-52), which the spec's 1e-12 * sqrt(edge . edge), rounded up twice at most,
@@ -51,7 +54,7 @@ struct FrameBlock {
   alignas(32) double t2x[kCapacity], t2y[kCapacity], t2z[kCapacity];
   bool identity[kCapacity];  ///< |N_a + N_b| is 0 or not finite: the detail stays (x, y, z)
 
-  /// Rotates the three values at d by frame i, with the operations of FORMAT.md §3 in their order.
+  /// Rotates the three values at d by frame i, with the operations of FORMAT.md §5 in their order.
   void rotate(std::uint32_t i, double* d, Direction direction) const {
     if (identity[i]) return;
     const double x = d[0], y = d[1], z = d[2];

@@ -1182,12 +1182,12 @@ def rotate_details_to_xyz(level, geometry, details):
         na, nb = normal_sum[a], normal_sum[b]
         n = (na[0] + nb[0], na[1] + nb[1], na[2] + nb[2])
         length = math.sqrt(_dot(n, n))
-        if not (length > 0) or not math.isfinite(length):
-            continue   # identity frame
-        n = _scale(1.0 / length, n)
         pa = (x[a], y[a], z[a])
         pb = (x[b], y[b], z[b])
         d = _sub(pb, pa)
+        if not (length > 1e-12 * _dot(d, d)) or not math.isfinite(length):
+            continue   # identity frame
+        n = _scale(1.0 / length, n)
         t1 = _sub(d, _scale(_dot(d, n), n))
         l1 = math.sqrt(_dot(t1, t1))
         if not (l1 > 1e-12 * math.sqrt(_dot(d, d))):

@@ -45,9 +45,9 @@ void reference_rotate(const SemiRegularHierarchy& h, int level, const std::vecto
     const std::uint32_t a = t.edge_vertices[2 * e], b = t.edge_vertices[2 * e + 1];
     Vec n = normal[a] + normal[b];
     const double len = std::sqrt(dot(n, n));
-    if (!(len > 0) || !std::isfinite(len)) continue;
-    n = (1 / len) * n;
     const Vec d = p(b) - p(a);
+    if (!(len > 1e-12 * dot(d, d)) || !std::isfinite(len)) continue;
+    n = (1 / len) * n;
     Vec t1 = d - dot(d, n) * n;
     double l1 = std::sqrt(dot(t1, t1));
     if (!(l1 > 1e-12 * std::sqrt(dot(d, d)))) {
