@@ -194,24 +194,21 @@ class Front {
   const std::vector<std::uint32_t>& right(std::uint32_t a) const { return in_open_[a]; }
   /// Vertices x with an open edge b -> x (a face (b, a, x) closes against it: "left").
   const std::vector<std::uint32_t>& left(std::uint32_t b) const { return out_open_[b]; }
-  /// The vertex `steps` open edges along the front from v, leftwards (v -> x) or rightwards
-  /// (x -> v), each step along the oldest open edge of the vertex reached; kNone where the front
-  /// stops first.
+  /// One open edge along the front from v: leftwards (v -> x) or rightwards (x -> v), along the
+  /// oldest such edge of v; kNone where the front stops at v.
+  std::uint32_t step(std::uint32_t v, bool leftwards) const {
+    const std::vector<std::uint32_t>& next = leftwards ? out_open_[v] : in_open_[v];
+    return next.empty() ? kNone : next.front();
+  }
+  /// The vertex `steps` step()s from v; kNone where the front stops first.
   std::uint32_t walk(std::uint32_t v, std::uint32_t steps, bool leftwards) const {
-    for (; steps > 0 && v != kNone; --steps) {
-      const std::vector<std::uint32_t>& next = leftwards ? out_open_[v] : in_open_[v];
-      v = next.empty() ? kNone : next.front();
-    }
+    for (; steps > 0 && v != kNone; --steps) v = step(v, leftwards);
     return v;
   }
-  /// The fewest steps of walk() from v that reach `target`, at most kMaxWalk; 0 if none do.
+  /// The fewest step()s from v that reach `target`, at most kMaxWalk; 0 if none do.
   std::uint32_t steps_to(std::uint32_t v, std::uint32_t target, bool leftwards) const {
-    for (std::uint32_t steps = 1; steps <= kMaxWalk; ++steps) {
-      const std::vector<std::uint32_t>& next = leftwards ? out_open_[v] : in_open_[v];
-      if (next.empty()) return 0;
-      v = next.front();
-      if (v == target) return steps;
-    }
+    for (std::uint32_t steps = 1; steps <= kMaxWalk && v != kNone; ++steps)
+      if ((v = step(v, leftwards)) == target) return steps;
     return 0;
   }
 

@@ -52,7 +52,7 @@ struct FrameBlock {
   alignas(32) double nx[kCapacity], ny[kCapacity], nz[kCapacity];
   alignas(32) double t1x[kCapacity], t1y[kCapacity], t1z[kCapacity];
   alignas(32) double t2x[kCapacity], t2y[kCapacity], t2z[kCapacity];
-  bool identity[kCapacity];  ///< |N_a + N_b| is 0 or not finite: the detail stays (x, y, z)
+  bool identity[kCapacity];  ///< |N_a + N_b| <= kNormalFloor |edge|^2 or not finite: the detail stays (x, y, z)
 
   /// Rotates the three values at d by frame i, with the operations of FORMAT.md §5 in their order.
   void rotate(std::uint32_t i, double* d, Direction direction) const {
