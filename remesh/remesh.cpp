@@ -393,7 +393,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       RemeshResult plain = by_decimation(options.density, 0, lines.empty() ? 1 : 0.5, no_lines);
       if (lines.empty()) return plain;
       RemeshResult lined = by_decimation(options.density, 0.5, 1, lines);
-      if (fold_free(lined) != fold_free(plain)) return fold_free(lined) ? std::move(lined) : std::move(plain);
+      const bool lined_fold_free = fold_free(lined), plain_fold_free = fold_free(plain);
+      if (lined_fold_free != plain_fold_free) return lined_fold_free ? std::move(lined) : std::move(plain);
       return psnr(lined) >= psnr(plain) ? std::move(lined) : std::move(plain);
     }
     // Automatic density: the sparsest remesh that is close enough to the input and folds
