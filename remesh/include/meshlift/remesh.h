@@ -44,7 +44,8 @@ struct RemeshOptions {
   /// or 0: automatic: 2x if its remesh reaches auto_density_psnr against the input (metric.h)
   /// and folds no face (but where the input passes through itself: no orientation faces both of
   /// its sheets there); else 3x if that one reaches middle_density_psnr and folds none; else the
-  /// closest to the input of 2x, 3x and 4x. Where the 2x remesh reaches sparsest_density_psnr,
+  /// closest to the input of 2x, 3x and 4x, or of those and 6x where they all fall short of
+  /// dense_density_psnr. Where the 2x remesh reaches sparsest_density_psnr,
   /// the kSparserAutoDensities in turn, each kept if it qualifies, the next tried only while the
   /// last kept one reaches sparsest_density_psnr too. Measured (docs/RESULTS.md): 4x gives the
   /// closer remesh (about 4-9 dB above 2x where both work); 2x codes the 55-75 dB range in
@@ -63,6 +64,11 @@ struct RemeshOptions {
   /// BD-rate +8 %), one with a margin codes it in fewer bits (lion-head, 80.0 dB: -18 %; camel,
   /// 81.8 dB: -6 %; docs/RESULTS.md).
   double middle_density_psnr = 77;
+  /// Where the closest of the 2x, 3x and 4x remeshes stays below this (dB), the automatic
+  /// density also makes the kDenserAutoDensity remesh and keeps it if it is closer still. The
+  /// top of the 55-75 dB range: a remesh farther from the input caps the codec's curve below it
+  /// (cow 66.1 dB at 4x, 71.8 at 6x: BD-rate against Draco -18.6 -> -35.2 %; docs/RESULTS.md).
+  double dense_density_psnr = 75;
   BaseFit fit = BaseFit::loop;
   /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
   /// 0 leaves every vertex on the input surface where the fitting stage placed it.
@@ -90,6 +96,8 @@ struct RemeshOptions {
 
 /// The densities the automatic choice tries, sparser first.
 inline constexpr double kAutoDensities[] = {2, 3, 4};
+/// The denser density tried where the closest of those is below dense_density_psnr.
+inline constexpr double kDenserAutoDensity = 6;
 /// The sparser densities tried, in turn, where the 2x remesh is far within the threshold (smooth
 /// meshes, and CAD meshes that follow their feature lines).
 inline constexpr double kSparserAutoDensities[] = {1.5, 1};
