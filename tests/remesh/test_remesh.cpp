@@ -1,6 +1,7 @@
 // The remeshing pipeline (remesh.h): any mesh -> semi-regular mesh close to its surface.
 #include <cmath>
 #include <tuple>
+#include <vector>
 
 #include "meshlift/mesh_io.h"
 #include "meshlift/metric.h"
@@ -202,7 +203,8 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   CHECK(remesh(input, options).density == 2);
   // A threshold no 2x remesh reaches: the 3x one when it reaches its own (identical to asking
   // for density 3), else the 4x one (identical to asking for density 4) when it is the closest
-  // and reaches dense_density_psnr, else the 6x one if closer still (identical to density 6).
+  // and reaches dense_density_psnr, else the denser ones in turn while the one kept is short of
+  // it (each identical to asking for its density).
   options.auto_density_psnr = 500;
   options.middle_density_psnr = 60;
   const RemeshResult middle = remesh(input, options);
@@ -213,12 +215,26 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   const RemeshResult dense = remesh(input, options);
   CHECK(dense.density == 4);
   const double dense_db = surface_distance(input, dense.mesh.finest(), metric).psnr_db();
-  options.dense_density_psnr = dense_db + 0.5;
+  std::vector<double> denser_db;
+  for (const double density : kDenserAutoDensities) {
+    RemeshOptions fixed = options;
+    fixed.density = density;
+    const RemeshResult r = remesh(input, fixed);
+    REQUIRE(r.flipped_triangles == 0);
+    denser_db.push_back(surface_distance(input, r.mesh.finest(), metric).psnr_db());
+  }
+  REQUIRE(denser_db[0] > dense_db);
+  REQUIRE(denser_db[1] > denser_db[0]);
+  options.dense_density_psnr = denser_db[0];  // 4x short of it, 6x reaches it: no further step
   const RemeshResult denser = remesh(input, options);
-  CHECK(denser.density == kDenserAutoDensity);
+  CHECK(denser.density == kDenserAutoDensities[0]);
   CHECK(denser.mesh.hierarchy.vertex_count(0) > dense.mesh.hierarchy.vertex_count(0));
-  CHECK(surface_distance(input, denser.mesh.finest(), metric).psnr_db() > dense_db);
-  options.density = kDenserAutoDensity;
+  options.dense_density_psnr = denser_db[0] + 0.01;  // 6x short of it too: 8x
+  const RemeshResult densest = remesh(input, options);
+  CHECK(densest.density == kDenserAutoDensities[1]);
+  options.density = kDenserAutoDensities[1];
+  CHECK(remesh(input, options).mesh.positions == densest.mesh.positions);
+  options.density = kDenserAutoDensities[0];
   CHECK(remesh(input, options).mesh.positions == denser.mesh.positions);
   options.density = 4;
   CHECK(remesh(input, options).mesh.positions == dense.mesh.positions);
@@ -230,16 +246,23 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   CHECK(remesh(input, options).density == 0);
 }
 
-TEST_CASE("The automatic density goes to 6x where the 4x remesh stays below 75 dB", "[corpus][remesh][pipeline]") {
+TEST_CASE("The automatic density goes denser where the 4x remesh stays below 75 dB", "[corpus][remesh][pipeline]") {
   // Elephant's 4x base is 174 vertices: its remesh is 69.9 dB from the input, which would cap the
   // codec's curve below the top of 55-75 dB. At 6x it is 75.9 dB with no fold (docs/RESULTS.md:
-  // BD-rate against Draco -30.2 -> -39.2 %). Knot1 (76.0 dB at 4x) stays at 4x.
+  // BD-rate against Draco -30.2 -> -39.2 %), so 8x is not tried. Knot1 (76.0 dB at 4x) stays.
   const TriangleMesh elephant = to_triangle_mesh(read_mesh(test::corpus_mesh_path("elephant")));
   const RemeshResult result = remesh(elephant, RemeshOptions{});
-  CHECK(result.density == kDenserAutoDensity);
+  CHECK(result.density == kDenserAutoDensities[0]);
   CHECK(result.flipped_triangles == 0);
   CHECK(result.degenerate_triangles == 0);
   CHECK(surface_distance(elephant, result.mesh.finest()).psnr_db() >= RemeshOptions{}.dense_density_psnr);
   const TriangleMesh knot = to_triangle_mesh(read_mesh(test::corpus_mesh_path("knot1")));
   CHECK(remesh(knot, RemeshOptions{}).density == 4);
+  // Cow's 6x remesh (71.8 dB) folds one face away from its crossings: not kept; its 8x one
+  // (74.5 dB) folds only where the input passes through itself.
+  const TriangleMesh cow = to_triangle_mesh(read_mesh(test::corpus_mesh_path("cow")));
+  const RemeshResult cow_result = remesh(cow, RemeshOptions{});
+  CHECK(cow_result.density == kDenserAutoDensities[1]);
+  CHECK(cow_result.flipped_where_input_crosses == cow_result.flipped_triangles);
+  CHECK(surface_distance(cow, cow_result.mesh.finest()).psnr_db() > 74);
 }

@@ -44,7 +44,7 @@ struct RemeshOptions {
   /// or 0: automatic: 2x if its remesh reaches auto_density_psnr against the input (metric.h)
   /// and folds no face (but where the input passes through itself: no orientation faces both of
   /// its sheets there); else 3x if that one reaches middle_density_psnr and folds none; else the
-  /// closest to the input of 2x, 3x and 4x, or of those and 6x where they all fall short of
+  /// closest to the input of 2x, 3x and 4x, then of denser ones where those all fall short of
   /// dense_density_psnr. Where the 2x remesh reaches sparsest_density_psnr,
   /// the kSparserAutoDensities in turn, each kept if it qualifies, the next tried only while the
   /// last kept one reaches sparsest_density_psnr too. Measured (docs/RESULTS.md): 4x gives the
@@ -65,9 +65,11 @@ struct RemeshOptions {
   /// 81.8 dB: -6 %; docs/RESULTS.md).
   double middle_density_psnr = 77;
   /// Where the closest of the 2x, 3x and 4x remeshes stays below this (dB), the automatic
-  /// density also makes the kDenserAutoDensity remesh and keeps it if it is closer still. The
-  /// top of the 55-75 dB range: a remesh farther from the input caps the codec's curve below it
-  /// (cow 66.1 dB at 4x, 71.8 at 6x: BD-rate against Draco -18.6 -> -35.2 %; docs/RESULTS.md).
+  /// density also makes the kDenserAutoDensities remeshes in turn while the closest is still
+  /// below it, each kept if closer and folding nowhere but at the input's crossings. The top of
+  /// the 55-75 dB range: a remesh farther from the input caps the codec's curve below it
+  /// (elephant 69.9 dB at 4x, 75.9 at 6x: BD-rate against Draco -30.2 -> -39.2 %; cow 66.1 at
+  /// 4x, 74.5 at 8x: -18.8 -> -32.4 %; docs/RESULTS.md).
   double dense_density_psnr = 75;
   BaseFit fit = BaseFit::loop;
   /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
@@ -96,8 +98,8 @@ struct RemeshOptions {
 
 /// The densities the automatic choice tries, sparser first.
 inline constexpr double kAutoDensities[] = {2, 3, 4};
-/// The denser density tried where the closest of those is below dense_density_psnr.
-inline constexpr double kDenserAutoDensity = 6;
+/// The denser densities tried, in turn, while the closest remesh is below dense_density_psnr.
+inline constexpr double kDenserAutoDensities[] = {6, 8};
 /// The sparser densities tried, in turn, where the 2x remesh is far within the threshold (smooth
 /// meshes, and CAD meshes that follow their feature lines).
 inline constexpr double kSparserAutoDensities[] = {1.5, 1};
