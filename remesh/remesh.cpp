@@ -433,42 +433,40 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
         std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1], no_lines); });
     // A decimation that stopped at or above a denser target gives the same base (cow stops at
     // 193 vertices for all three).
-    auto same_base_as_denser = [&](const RemeshResult& r, double denser) {
-      return r.base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
+    auto same_base_as_denser = [&](std::size_t base_vertices, double denser) {
+      return base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
     };
     RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5, no_lines);
     const double sparse_psnr = psnr(sparse);
     if (qualifies(sparse, sparse_psnr)) return sparsest_or(sparse, sparse_psnr, no_lines);
-    // The closest to the input so far, and the densest made so far.
+    // The closest to the input so far, and the base size of the densest made so far.
     RemeshResult* closest = &sparse;
     double closest_psnr = sparse_psnr;
-    const RemeshResult* densest = &sparse;
+    std::size_t densest_base = sparse.base_vertices;
     std::optional<RemeshResult> middle;
-    if (!same_base_as_denser(sparse, kAutoDensities[1])) {
+    if (!same_base_as_denser(densest_base, kAutoDensities[1])) {
       middle = by_decimation(kAutoDensities[1], 0.5, 0.75, no_lines, &middle_base);
       const double middle_psnr = psnr(*middle);
       if (middle_psnr >= options.middle_density_psnr && fold_free(*middle)) return std::move(*middle);
       if (middle_psnr >= closest_psnr) closest = &*middle, closest_psnr = middle_psnr;
-      densest = &*middle;
+      densest_base = middle->base_vertices;
     }
     std::optional<RemeshResult> dense;
-    if (!same_base_as_denser(*densest, kAutoDensities[2])) {
+    if (!same_base_as_denser(densest_base, kAutoDensities[2])) {
       dense = by_decimation(kAutoDensities[2], 0.75, 0.9, no_lines);
       if (const double dense_psnr = psnr(*dense); dense_psnr >= closest_psnr) closest = &*dense, closest_psnr = dense_psnr;
-      densest = &*dense;
+      densest_base = dense->base_vertices;
     }
     // Still short of the top of the 55-75 dB range that the codec's files are measured over (a
     // small input whose 4x base is tiny: cow 66.1 dB, elephant 69.9): the codec's curve would
     // flatten below it at every rate. Denser steps while that lasts, each kept if closer and
     // folding nowhere but at the input's crossings (elephant 75.9 dB at 6x, BD-rate against
-    // Draco -30.2 -> -39.2 %; cow folds once more at 6x, and is 74.5 dB at 8x, -18.8 -> -32.4 %;
-    // docs/RESULTS.md).
+    // Draco -30.2 -> -39.2 %; cow's 6x remesh folds a face away from its crossings, its 8x one is
+    // 74.5 dB, -18.8 -> -32.4 %; docs/RESULTS.md).
     std::optional<RemeshResult> denser;
-    std::size_t densest_base = densest->base_vertices;
     double from = 0.9;
     for (const double density : kDenserAutoDensities) {
-      if (closest_psnr >= options.dense_density_psnr || densest_base >= automatic_remesh_base(mesh, options.levels, density))
-        break;
+      if (closest_psnr >= options.dense_density_psnr || same_base_as_denser(densest_base, density)) break;
       RemeshResult r = by_decimation(density, from, from + 0.05, no_lines);
       from += 0.05;
       densest_base = r.base_vertices;
