@@ -33,8 +33,8 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
       ->capture_default_str();
   cmd.add_option("--density", options.density,
                  "remesh vertices per input vertex the base size aims at, 1..1024, or auto: 2 if that remesh is "
-                 "within 75 dB PSNR of the input (fewer bits at 55-75 dB), else 3 or 4 (closer), and 6 where those are "
-                 "still short of 75 dB (small inputs)")
+                 "within 75 dB PSNR of the input (fewer bits at 55-75 dB), else 3 or 4 (closer), then 6 and 8 while the "
+                 "closest is still short of 75 dB (small inputs)")
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1.0, 1024.0))
       ->capture_default_str();
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
