@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -109,15 +111,46 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     const Vec normal = face_normal(x, &triangles[3 * f]);
     return dot(normal, normal) == 0 || faces_away(x, &triangles[3 * f], surface, hint);
   };
+  // Per face, the input face closest to its centroid where known (kNone: not yet), as of the
+  // epoch in centroid_epoch (below): the patches' planes read it for the same faces again and again.
+  std::vector<std::uint32_t> centroid_face(faces, kNone);
+  std::vector<std::uint64_t> centroid_epoch(faces, 0);
   std::vector<std::uint8_t> folded(faces);
   parallel_blocks(faces, 0, [&](std::size_t begin, std::size_t end) {
     std::uint32_t hint = kNone;  // consecutive faces are neighbours in a semi-regular mesh
-    for (std::size_t f = begin; f < end; ++f) folded[f] = is_folded(f, &hint);
+    for (std::size_t f = begin; f < end; ++f) {
+      const Vec normal = face_normal(x, &triangles[3 * f]);
+      if (dot(normal, normal) == 0) {
+        folded[f] = 1;  // as is_folded() counts it, without a query
+        continue;
+      }
+      folded[f] = faces_away(x, &triangles[3 * f], surface, &hint);
+      centroid_face[f] = hint;  // the face faces_away() found closest
+    }
   });
   report.folded_before = static_cast<std::size_t>(std::count(folded.begin(), folded.end(), 1));
 
   std::vector<std::uint32_t> stamp(faces, 0), vertex_stamp(n, 0), local(n, kNone);
   std::uint32_t generation = 0;
+  // Attempts that failed are not repeated while nothing they read has moved. An attempt, on a
+  // patch or at a vertex, is a function of the positions of the vertices it reads (a patch's
+  // largest region; a vertex and its neighbours), of the folded flags of their faces (which
+  // change only when one of those vertices moves) and of the input: repeated unchanged, it fails
+  // again. So each move is stamped with a new epoch, a failure records the epoch it saw, and an
+  // attempt is skipped when none of its vertices has moved since: the same result, without the
+  // closest-point queries that the hopeless patches (at the input's own crossings) used to repeat
+  // at every pass and round (mannequin-devil: ~45 % of its remesh time).
+  std::vector<std::uint64_t> moved_at(n, 0);
+  std::uint64_t epoch = 0;
+  auto unmoved_since = [&](std::span<const std::uint32_t> vertices, std::uint64_t since) {
+    return std::all_of(vertices.begin(), vertices.end(), [&](std::uint32_t v) { return moved_at[v] <= since; });
+  };
+  struct FailedPatch {
+    std::vector<std::uint32_t> faces;  ///< the patch as it was found
+    std::vector<std::uint32_t> read;   ///< the vertices of its largest region
+    std::uint64_t epoch = 0;
+  };
+  std::unordered_map<std::uint32_t, FailedPatch> failed_patches;  // by seed face
   // First, patch by patch.
   auto patch_passes = [&] {
     for (int pass = 0; pass < options.passes; ++pass) {
@@ -135,6 +168,11 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               if (folded[incident[j]] && !seen[incident[j]]) seen[incident[j]] = 1, patch.push_back(incident[j]);
           }
 
+        if (const auto failed = failed_patches.find(patch[0]);
+            failed != failed_patches.end() && failed->second.faces == patch && unmoved_since(failed->second.read, failed->second.epoch))
+          continue;
+        bool kept = false;
+        std::vector<std::uint32_t> read;  // the vertices of the largest region tried
         for (int rings = options.first_rings; rings <= options.max_rings; rings += (rings + 1) / 2) {
           // The region: the patch grown by `rings` rings of faces.
           ++generation;
@@ -164,13 +202,22 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               if (all_in) local[v] = static_cast<std::uint32_t>(inner.size()), inner.push_back(v);
               else local[v] = kNone;
             }
+          read = vertices;
           if (inner.empty()) continue;
 
           // The plane: the mean input normal over the region (by the closest points of its
           // face centroids) through the mean of its vertices.
+          // Closest-point queries here and below start from the face found for the previous
+          // face or vertex (the region grows ring by ring: neighbours follow each other), which
+          // makes them faster and does not change their answers (closest_point.h).
           Vec normal{0, 0, 0}, origin{0, 0, 0};
+          std::uint32_t hint = kNone;
           for (std::uint32_t f : region) {
-            const Vec m = input_normal(surface.closest(centroid(f)).face);
+            const std::uint32_t* t = &triangles[3 * std::size_t{f}];
+            if (centroid_face[f] == kNone || std::max({moved_at[t[0]], moved_at[t[1]], moved_at[t[2]]}) > centroid_epoch[f])
+              centroid_face[f] = surface.closest(centroid(f), hint).face, centroid_epoch[f] = epoch;
+            hint = centroid_face[f];
+            const Vec m = input_normal(hint);
             for (int c = 0; c < 3; ++c) normal[c] += m[c];
           }
           normal = unit(normal);
@@ -215,7 +262,6 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           std::vector<double> saved(3 * inner.size());
           for (std::uint32_t i = 0; i < inner.size(); ++i)
             for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
-          bool kept = false;
           for (int lift = 0; lift < 2 && !kept; ++lift) {
             for (std::uint32_t i = 0; i < inner.size(); ++i) {
               const std::uint32_t v = inner[i];
@@ -227,20 +273,26 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
                 if (hit.face != kNone && dot(input_normal(hit.face), normal) > 0 && (best.face == kNone || hit.distance < best.distance))
                   best = hit;
               }
-              if (best.face == kNone) best = surface.closest(p);
+              if (best.face == kNone) best = surface.closest(p, hint);
+              hint = best.face;
               for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
             }
-            // Keep the new patch only if it has fewer folded faces than the old one.
+            // Keep the new patch only if it has fewer folded faces than the old one. Only faces
+            // with an inner vertex have moved; the count stops as soon as it cannot end below
+            // `before` (a patch that stays folded fails after its own faces, which come first).
             std::size_t before = 0, after = 0;
+            for (const std::uint32_t f : region) before += folded[f];
             std::vector<std::uint8_t> now(region.size());
-            for (std::size_t i = 0; i < region.size(); ++i) {
-              before += folded[region[i]];
-              now[i] = is_folded(region[i]);
+            for (std::size_t i = 0; i < region.size() && after < before; ++i) {
+              const std::uint32_t* t = &triangles[3 * std::size_t{region[i]}];
+              const bool moved = local[t[0]] != kNone || local[t[1]] != kNone || local[t[2]] != kNone;
+              now[i] = moved ? is_folded(region[i], &hint) : folded[region[i]];
               after += now[i];
             }
             ++report.patches_tried;
             if (after < before) {
               for (std::size_t i = 0; i < region.size(); ++i) folded[region[i]] = now[i];
+              for (const std::uint32_t v : inner) moved_at[v] = ++epoch;
               ++report.patches_kept, ++kept_this_pass;
               kept = true;
             } else {
@@ -250,6 +302,9 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           }
           if (kept) break;
         }
+        const std::uint32_t seed_face = patch[0];
+        if (kept) failed_patches.erase(seed_face);
+        else failed_patches[seed_face] = FailedPatch{std::move(patch), std::move(read), epoch};
       }
       if (kept_this_pass == 0) break;
     }
@@ -265,6 +320,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   // point of a plane or to the input's closest point to it, whichever leaves fewest of its faces
   // folded, and only if that is fewer than now, or as many with a larger smallest area (along
   // the input's normal at the vertex). Returns the moves kept.
+  std::vector<std::uint64_t> vertex_failed_at(n, std::numeric_limits<std::uint64_t>::max());
   auto vertex_passes = [&] {
     std::size_t moved_in_all = 0;
     for (int pass = 0; pass < options.vertex_passes && std::count(folded.begin(), folded.end(), 1) != 0; ++pass) {
@@ -277,6 +333,11 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       std::size_t moved = 0;
       for (std::uint32_t v : candidates) {
+        const std::span<const std::uint32_t> neighbours(adjacency.neighbours.data() + adjacency.neighbour_offsets[v],
+                                                        adjacency.neighbour_offsets[v + 1] - adjacency.neighbour_offsets[v]);
+        if (const std::uint64_t since = vertex_failed_at[v];
+            since != std::numeric_limits<std::uint64_t>::max() && moved_at[v] <= since && unmoved_since(neighbours, since))
+          continue;
         const Vec xv = at(x, v);
         // The plane: the input's normal at the vertex's closest point, then, where they differ
         // from it, the mean of those at its neighbours and the mean of those at its faces'
@@ -284,9 +345,10 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         // part has the far sheet's normal; its neighbours and faces mostly do not. Measured (L = 3,
         // ~4x, camel / cow / turbine / mannequin-devil folds): the first alone 9 / 16 / 19 / 21,
         // the first two 7 / 12 / 10 / 14, all three 8 / 9 / 8 / 12.
-        const Vec n = input_normal(surface.closest(xv).face);
+        const std::uint32_t here = surface.closest(xv).face;  // the hint of the queries below
+        const Vec n = input_normal(here);
         auto add_input_normal = [&](Vec& sum, const Vec& p) {
-          const Vec m = input_normal(surface.closest(p).face);
+          const Vec m = input_normal(surface.closest(p, here).face);
           for (int c = 0; c < 3; ++c) sum[c] += m[c];
         };
         Vec mean_normal{0, 0, 0}, face_normal_mean{0, 0, 0};
@@ -298,7 +360,10 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
 
         auto ring_folds = [&] {
           std::size_t count = 0;
-          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) count += is_folded(incident[j]);
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
+            std::uint32_t hint = here;
+            count += is_folded(incident[j], &hint);
+          }
           return count;
         };
         auto ring_min_area = [&] {  // along n
@@ -333,7 +398,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           if (!(best_min > now_min)) continue;
           const Vec planar{xv[0] + d[0] * e1[0] + d[1] * e2[0], xv[1] + d[0] * e1[1] + d[1] * e2[1],
                            xv[2] + d[0] * e1[2] + d[1] * e2[2]};
-          for (const Vec& q : {surface.closest(planar).point, planar}) {
+          for (const Vec& q : {surface.closest(planar, here).point, planar}) {
             for (int c = 0; c < 3; ++c) x[3 * v + c] = q[c];
             const std::size_t folds = ring_folds();
             const double area = ring_min_area();
@@ -343,7 +408,13 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         for (int c = 0; c < 3; ++c) x[3 * v + c] = best[c];
         if (best != xv) {
           ++moved;
-          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) folded[incident[j]] = is_folded(incident[j]);
+          moved_at[v] = ++epoch;
+          for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
+            std::uint32_t hint = here;
+            folded[incident[j]] = is_folded(incident[j], &hint);
+          }
+        } else {
+          vertex_failed_at[v] = epoch;
         }
       }
       moved_in_all += moved;

@@ -76,6 +76,58 @@ TEST_CASE("Vertex by vertex untangling alone unfolds a vertex pushed across its 
   CHECK(untangle(mesh, sphere, options).folded_after == tangled);
 }
 
+TEST_CASE("A patch that cannot be untangled is not tried again while nothing around it moves", "[remesh][untangle]") {
+  // A pleat that untangles, and on the far side of the sphere a cap of input faces turned
+  // inside out under remesh vertices that all stay (`fixed`): the remesh faces there face away
+  // from the input whatever the untangling does, so every try on their patch fails. Pass 1 keeps
+  // the pleat's patch and fails the cap's, so a pass 2 runs; in it the cap's patch, whose region
+  // is far from the pleat, must be skipped: its tries are counted once, as when it is alone.
+  SemiRegularMesh pleated = test::sphere_refinement(3);
+  const std::vector<std::uint32_t>& t = pleated.hierarchy.triangles(3);
+  const std::uint32_t v = t[3 * 100], through = t[3 * 100 + 1];
+  double far[3];
+  for (int c = 0; c < 3; ++c) far[c] = -pleated.positions[3 * v + c];
+  auto along_far = [&](const std::vector<double>& x, std::uint32_t u) {
+    return far[0] * x[3 * u] + far[1] * x[3 * u + 1] + far[2] * x[3 * u + 2];
+  };
+  const SemiRegularMesh smooth = pleated;
+  for (int c = 0; c < 3; ++c) pleated.positions[3 * v + c] += 1.8 * (pleated.positions[3 * through + c] - pleated.positions[3 * v + c]);
+
+  TriangleMesh capped = test::icosphere(5);
+  std::size_t turned = 0;
+  for (std::size_t f = 0; f < capped.face_count(); ++f) {
+    const std::uint32_t* corners = &capped.triangles[3 * f];
+    if (along_far(capped.positions, corners[0]) + along_far(capped.positions, corners[1]) + along_far(capped.positions, corners[2]) > 3 * 0.97)
+      std::swap(capped.triangles[3 * f + 1], capped.triangles[3 * f + 2]), ++turned;
+  }
+  REQUIRE(turned >= 10);
+  const SurfaceQuery sphere(test::icosphere(5)), cap(std::move(capped));
+  std::vector<std::uint8_t> fixed(pleated.positions.size() / 3, 0);
+  for (std::uint32_t u = 0; u < fixed.size(); ++u) fixed[u] = along_far(smooth.positions, u) > 0.9;
+
+  UntangleOptions options;
+  options.vertex_passes = 0;
+  options.rounds = 1;
+  options.fixed = fixed;
+  SemiRegularMesh mesh = pleated;
+  const UntangleReport pleat_alone = untangle(mesh, sphere, options);
+  REQUIRE(pleat_alone.folded_before >= 2);
+  REQUIRE(pleat_alone.folded_after == 0);
+  mesh = smooth;
+  const UntangleReport cap_alone = untangle(mesh, cap, options);
+  REQUIRE(cap_alone.folded_before >= 4);
+  REQUIRE(cap_alone.folded_after == cap_alone.folded_before);
+  REQUIRE(cap_alone.patches_kept == 0);
+  REQUIRE(cap_alone.patches_tried >= 2);
+
+  mesh = pleated;
+  const UntangleReport both = untangle(mesh, cap, options);
+  CHECK(both.folded_before == pleat_alone.folded_before + cap_alone.folded_before);
+  CHECK(both.folded_after == cap_alone.folded_before);
+  CHECK(both.patches_kept == pleat_alone.patches_kept);
+  CHECK(both.patches_tried == pleat_alone.patches_tried + cap_alone.patches_tried);  // was + 2 x cap_alone's
+}
+
 TEST_CASE("Untangling leaves a mesh without folds as it is", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(4));
   SemiRegularMesh mesh = test::sphere_refinement(3);
