@@ -1,5 +1,5 @@
-// Untangling folded patches of a remesh by Tutte re-embedding on the input's tangent plane.
-// See untangle.h.
+// Untangling folded patches of a remesh by Tutte re-embedding on the input's tangent plane or
+// on its own flattening. See untangle.h.
 #include "meshlift/untangle.h"
 
 #include <Eigen/SparseCholesky>
@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
+#include <queue>
 #include <span>
 #include <stdexcept>
 #include <unordered_map>
@@ -74,6 +77,184 @@ std::pair<std::array<double, 2>, double> max_min_offset(const std::vector<Linear
   return {best, best_t};
 }
 
+
+/// The input's own flattening near a patch, for patches that no plane suits (across a thin
+/// part's sharp edge the input's normals turn by up to 180°, and a plane projection folds the
+/// rim): the input faces with a corner within `radius` of a surface point along the input's edges
+/// (Dijkstra), connected to its face through shared vertices, if they form a topological disk,
+/// mapped into the unit disk by Tutte's barycentric map with the boundary on the circle by arc
+/// length (a convex boundary: the map is an embedding, Floater 1997). Points of the chart's faces
+/// go into the disk and back by their barycentric coordinates (to_surface() searches the faces:
+/// the chart serves the rare patches that two lifts could not untangle).
+class InputChart {
+ public:
+  /// False if the faces found are not a disk (a tube, a handle, a pinched boundary) or too many.
+  bool build(const TriangleMesh& input, const Adjacency& adjacency, const SurfacePoint& from, double radius) {
+    constexpr std::size_t kMaxFaces = 20000;  // far above what a patch of 8 rings needs
+    const std::vector<std::uint32_t>& t = input.triangles;
+    const std::uint32_t seed = from.face;
+    // Distances along the input's edges from the point `from` (Dijkstra, to `radius`): a ball
+    // along the surface, which follows a thin part around its edge where a ball in space would
+    // take in its far side.
+    std::unordered_map<std::uint32_t, double> distance;
+    using Entry = std::pair<double, std::uint32_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t v = t[3 * std::size_t{seed} + i];
+      const Vec d = sub(at(input.positions, v), from.point);
+      queue.emplace(std::sqrt(dot(d, d)), v);
+    }
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > radius || distance.count(v)) continue;
+      distance.emplace(v, d);
+      if (distance.size() > kMaxFaces) return false;
+      for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
+        const std::uint32_t w = adjacency.neighbours[k];
+        if (distance.count(w)) continue;
+        const Vec e = sub(at(input.positions, w), at(input.positions, v));
+        queue.emplace(d + std::sqrt(dot(e, e)), w);
+      }
+    }
+    auto within = [&](std::uint32_t f) {  // a corner within the radius (input faces may be larger than it)
+      for (int i = 0; i < 3; ++i)
+        if (distance.count(t[3 * std::size_t{f} + i])) return true;
+      return false;
+    };
+    if (!within(seed)) return false;
+    faces_ = {seed};
+    local_face_ = {{seed, 0}};
+    for (std::size_t i = 0; i < faces_.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = t[3 * std::size_t{faces_[i]} + k];
+        for (std::uint32_t j = adjacency.face_offsets[v]; j < adjacency.face_offsets[v + 1]; ++j) {
+          const std::uint32_t f = adjacency.faces[j];
+          if (local_face_.count(f) || !within(f)) continue;
+          if (faces_.size() == kMaxFaces) return false;
+          local_face_.emplace(f, static_cast<std::uint32_t>(faces_.size()));
+          faces_.push_back(f);
+        }
+      }
+    // Local vertices, edges and the boundary (directed as its face runs along it).
+    vertices_.clear();
+    local_vertex_.clear();
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_faces;
+    for (const std::uint32_t f : faces_)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = t[3 * std::size_t{f} + k], b = t[3 * std::size_t{f} + (k + 1) % 3];
+        if (local_vertex_.emplace(a, static_cast<std::uint32_t>(vertices_.size())).second) vertices_.push_back(a);
+        if (++edge_faces[{std::min(a, b), std::max(a, b)}] > 2) return false;
+      }
+    std::unordered_map<std::uint32_t, std::uint32_t> next;  // boundary vertex -> the next along the boundary
+    for (const std::uint32_t f : faces_)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = t[3 * std::size_t{f} + k], b = t[3 * std::size_t{f} + (k + 1) % 3];
+        if (edge_faces[{std::min(a, b), std::max(a, b)}] == 1 && !next.emplace(a, b).second) return false;  // pinched
+      }
+    const auto euler = static_cast<long long>(vertices_.size()) - static_cast<long long>(edge_faces.size()) +
+                       static_cast<long long>(faces_.size());
+    if (euler != 1 || next.empty()) return false;
+    // One boundary loop, walked from any of its vertices, to the circle by arc length.
+    std::vector<std::uint32_t> loop{next.begin()->first};
+    std::vector<double> arc{0};
+    while (true) {
+      const auto step = next.find(loop.back());
+      if (step == next.end()) return false;
+      const Vec d = sub(at(input.positions, step->second), at(input.positions, loop.back()));
+      arc.push_back(arc.back() + std::sqrt(dot(d, d)));
+      if (step->second == loop.front()) break;
+      if (loop.size() > next.size()) return false;
+      loop.push_back(step->second);
+    }
+    if (loop.size() != next.size() || !(arc.back() > 0)) return false;
+    constexpr double kTwoPi = 6.283185307179586;
+    uv_.assign(2 * vertices_.size(), 0.0);
+    std::vector<std::uint32_t> inner_index(vertices_.size(), kNone);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const std::uint32_t l = local_vertex_.at(loop[i]);
+      uv_[2 * l] = std::cos(kTwoPi * arc[i] / arc.back());
+      uv_[2 * l + 1] = std::sin(kTwoPi * arc[i] / arc.back());
+      inner_index[l] = kNone - 1;  // on the boundary
+    }
+    std::vector<std::uint32_t> inner;
+    for (std::uint32_t l = 0; l < vertices_.size(); ++l)
+      if (inner_index[l] == kNone) inner_index[l] = static_cast<std::uint32_t>(inner.size()), inner.push_back(l);
+    if (!inner.empty()) {
+      // Every neighbour of an inner vertex is a chart vertex: all its faces are in the chart
+      // (else one of its edges would be on the boundary).
+      std::vector<Eigen::Triplet<double>> entries;
+      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 2);
+      for (std::uint32_t i = 0; i < inner.size(); ++i) {
+        const std::uint32_t v = vertices_[inner[i]];
+        std::uint32_t degree = 0;
+        for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
+          const auto w = local_vertex_.find(adjacency.neighbours[k]);
+          if (w == local_vertex_.end()) return false;
+          ++degree;
+          if (inner_index[w->second] < kNone - 1) {
+            entries.emplace_back(i, inner_index[w->second], -1.0);
+          } else {
+            rhs(i, 0) += uv_[2 * w->second];
+            rhs(i, 1) += uv_[2 * w->second + 1];
+          }
+        }
+        entries.emplace_back(i, i, static_cast<double>(degree));
+      }
+      Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(inner.size()), static_cast<Eigen::Index>(inner.size()));
+      laplacian.setFromTriplets(entries.begin(), entries.end());
+      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+      if (solver.info() != Eigen::Success) return false;
+      const Eigen::MatrixXd mapped = solver.solve(rhs);
+      for (std::uint32_t i = 0; i < inner.size(); ++i) uv_[2 * inner[i]] = mapped(i, 0), uv_[2 * inner[i] + 1] = mapped(i, 1);
+    }
+    input_ = &input;
+    return true;
+  }
+
+  /// The chart coordinates of the point with barycentric coordinates `b` on input face f; false
+  /// if f is not in the chart.
+  bool to_chart(std::uint32_t f, const std::array<double, 3>& b, double uv[2]) const {
+    const auto found = local_face_.find(f);
+    if (found == local_face_.end()) return false;
+    uv[0] = uv[1] = 0;
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t l = local_vertex_.at(input_->triangles[3 * std::size_t{f} + i]);
+      uv[0] += b[i] * uv_[2 * l], uv[1] += b[i] * uv_[2 * l + 1];
+    }
+    return true;
+  }
+
+  /// The input point at chart coordinates uv; false if uv is outside the chart.
+  bool to_surface(const double uv[2], Vec& p) const {
+    for (const std::uint32_t f : faces_) {
+      const std::uint32_t* t = &input_->triangles[3 * std::size_t{f}];
+      double u[3], w[3];
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t l = local_vertex_.at(t[i]);
+        u[i] = uv_[2 * l], w[i] = uv_[2 * l + 1];
+      }
+      const double area = (u[1] - u[0]) * (w[2] - w[0]) - (u[2] - u[0]) * (w[1] - w[0]);
+      if (!(area > 0)) continue;
+      const double b1 = ((uv[0] - u[0]) * (w[2] - w[0]) - (u[2] - u[0]) * (uv[1] - w[0])) / area;
+      const double b2 = ((u[1] - u[0]) * (uv[1] - w[0]) - (uv[0] - u[0]) * (w[1] - w[0])) / area;
+      const double b0 = 1 - b1 - b2;
+      constexpr double kSlack = -1e-9;
+      if (b0 < kSlack || b1 < kSlack || b2 < kSlack) continue;
+      const Vec a = at(input_->positions, t[0]), b = at(input_->positions, t[1]), c = at(input_->positions, t[2]);
+      for (int k = 0; k < 3; ++k) p[k] = b0 * a[k] + b1 * b[k] + b2 * c[k];
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  const TriangleMesh* input_ = nullptr;
+  std::vector<std::uint32_t> faces_, vertices_;
+  std::unordered_map<std::uint32_t, std::uint32_t> local_face_, local_vertex_;
+  std::vector<double> uv_;  ///< per local vertex
+};
+
 }  // namespace
 
 UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options) {
@@ -131,6 +312,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   report.folded_before = static_cast<std::size_t>(std::count(folded.begin(), folded.end(), 1));
 
   std::vector<std::uint32_t> stamp(faces, 0), vertex_stamp(n, 0), local(n, kNone);
+  std::optional<Adjacency> input_adjacency;  // made when a patch first needs an InputChart
   std::uint32_t generation = 0;
   // Attempts that failed are not repeated while nothing they read has moved. An attempt, on a
   // patch or at a vertex, is a function of the positions of the vertices it reads (a patch's
@@ -262,8 +444,54 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           std::vector<double> saved(3 * inner.size());
           for (std::uint32_t i = 0; i < inner.size(); ++i)
             for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
-          for (int lift = 0; lift < 2 && !kept; ++lift) {
-            for (std::uint32_t i = 0; i < inner.size(); ++i) {
+          for (int lift = 0; lift < 3 && !kept; ++lift) {
+            if (lift == 2) {
+              // Third try: the patch's Tutte map inside the input's own flattening around it
+              // (InputChart), its rim where the closest points of its vertices fall, the inner
+              // vertices then at the input points of their chart coordinates. The rim is not
+              // convex in the chart, so this too may fold; it is kept on the same condition.
+              if (!input_adjacency) input_adjacency.emplace(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
+              double reach = 0;
+              for (const std::uint32_t v : vertices) {
+                const Vec d = sub(at(x, v), origin);
+                reach = std::max(reach, std::sqrt(dot(d, d)));
+              }
+              // The chart's radius along the surface: twice the patch's, else smaller (a ball that
+              // takes in a thin part's whole section is a tube, not a disk), else larger (one
+              // that misses rim vertices' closest points).
+              InputChart chart;
+              Eigen::MatrixXd rim = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 2);
+              bool inside = false;
+              const SurfacePoint middle = surface.closest(origin, hint);
+              for (const double scale : {2.0, 1.25, 3.0}) {
+                if (!chart.build(input, *input_adjacency, middle, scale * reach)) continue;
+                rim.setZero();
+                inside = true;
+                for (std::uint32_t i = 0; i < inner.size() && inside; ++i)
+                  for (std::uint32_t k = adjacency.neighbour_offsets[inner[i]]; k < adjacency.neighbour_offsets[inner[i] + 1] && inside; ++k) {
+                    const std::uint32_t w = adjacency.neighbours[k];
+                    if (local[w] != kNone) continue;
+                    const SurfacePoint on = surface.closest(at(x, w), hint);
+                    hint = on.face;
+                    double uv[2] = {0, 0};
+                    inside = chart.to_chart(on.face, on.barycentric, uv);
+                    rim(i, 0) += uv[0], rim(i, 1) += uv[1];
+                  }
+                if (inside) break;
+              }
+              if (!inside) break;
+              const Eigen::MatrixXd charted = solver.solve(rim);
+              std::vector<double> placed(3 * inner.size());
+              for (std::uint32_t i = 0; i < inner.size() && inside; ++i) {
+                const double uv[2] = {charted(i, 0), charted(i, 1)};
+                Vec p{0, 0, 0};
+                inside = chart.to_surface(uv, p);
+                for (int c = 0; c < 3; ++c) placed[3 * i + c] = p[c];
+              }
+              if (!inside) break;
+              for (std::uint32_t i = 0; i < inner.size(); ++i)
+                for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = placed[3 * i + c];
+            } else for (std::uint32_t i = 0; i < inner.size(); ++i) {
               const std::uint32_t v = inner[i];
               const Vec p{origin[0] + mapped(i, 0), origin[1] + mapped(i, 1), origin[2] + mapped(i, 2)};
               SurfacePoint best;

@@ -2,8 +2,12 @@
 // surface_fit.h): each connected patch of folded faces, grown by a few rings, is flattened onto
 // the plane of the input's normals there, its inner vertices re-embedded by Tutte's barycentric
 // mapping with the patch's rim fixed (Tutte 1963; Floater 1997: a convex rim gives an embedding
-// without fold-overs), and lifted back onto the input along that normal. A patch is kept only
-// if it has fewer folded faces than before; else it grows (1, 2, 3, 5, 8 rings) and is tried again.
+// without fold-overs), and lifted back onto the input along that normal, or to the closest
+// points, or, third, placed by the same map inside the input's own flattening around the patch
+// (a disk of input faces along the surface, mapped to the unit disk by Tutte's map: for patches
+// across a thin part's edge, where no plane suits). A patch is kept only if it has fewer folded
+// faces than before; else it grows (1, 2, 3, 5, 8 rings) and is tried again. A patch or vertex
+// that failed is not tried again while none of the vertices its try reads has moved.
 // What patches leave is untangled vertex by vertex (Freitag and Plassmann 2000): each vertex of a
 // folded face moves, in the input's tangent plane (or the plane of its neighbours' or faces'
 // input normals), to where the smallest signed area of its faces is largest, if that leaves fewer
