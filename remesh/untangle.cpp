@@ -448,8 +448,8 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
             if (lift == 2) {
               // Third try: the patch's Tutte map inside the input's own flattening around it
               // (InputChart), its rim where the closest points of its vertices fall, the inner
-              // vertices then at the input points of their chart coordinates. The rim is not
-              // convex in the chart, so this too may fold; it is kept on the same condition.
+              // vertices then at the input points of their chart coordinates. The rim need not
+              // be convex in the chart, so this too may fold; it is kept on the same condition.
               if (!input_adjacency) input_adjacency.emplace(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
               double reach = 0;
               for (const std::uint32_t v : vertices) {
