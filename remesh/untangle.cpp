@@ -5,6 +5,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -77,6 +78,32 @@ std::pair<std::array<double, 2>, double> max_min_offset(const std::vector<Linear
   return {best, best_t};
 }
 
+
+/// Tutte's barycentric map (Tutte 1963; Floater 1997) with uniform weights: every inner vertex at
+/// the mean of its neighbours (`adjacency`), the others fixed. The system is the graph Laplacian
+/// restricted to the inner vertices, symmetric positive definite; its right-hand side, one row per
+/// inner vertex, sums the fixed neighbours' values. `index_of(w)`: w's row among `inner`, or kNone
+/// for a fixed vertex, whose value `add_fixed(row, w)` adds to `rhs` (false if w has none: then
+/// no system). Returns the factorized system (check info()).
+template <class IndexOf, class AddFixed>
+std::optional<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> tutte_system(const Adjacency& adjacency,
+                                                                            std::span<const std::uint32_t> inner,
+                                                                            IndexOf&& index_of, AddFixed&& add_fixed) {
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::uint32_t i = 0; i < inner.size(); ++i) {
+    const std::uint32_t v = inner[i], first = adjacency.neighbour_offsets[v], end = adjacency.neighbour_offsets[v + 1];
+    entries.emplace_back(i, i, static_cast<double>(end - first));
+    for (std::uint32_t k = first; k < end; ++k) {
+      const std::uint32_t w = adjacency.neighbours[k];
+      if (const std::uint32_t j = index_of(w); j != kNone) entries.emplace_back(i, j, -1.0);
+      else if (!add_fixed(i, w)) return std::nullopt;
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(inner.size());
+  Eigen::SparseMatrix<double> laplacian(n, n);
+  laplacian.setFromTriplets(entries.begin(), entries.end());
+  return std::optional<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(std::in_place, laplacian);
+}
 
 /// The input's own flattening near a patch, for patches that no plane suits (across a thin
 /// part's sharp edge the input's normals turn by up to 180°, and a plane projection folds the
@@ -181,33 +208,35 @@ class InputChart {
     for (std::uint32_t l = 0; l < vertices_.size(); ++l)
       if (inner_index[l] == kNone) inner_index[l] = static_cast<std::uint32_t>(inner.size()), inner.push_back(l);
     if (!inner.empty()) {
-      // Every neighbour of an inner vertex is a chart vertex: all its faces are in the chart
-      // (else one of its edges would be on the boundary).
-      std::vector<Eigen::Triplet<double>> entries;
+      // An inner vertex's neighbours are all chart vertices (all its faces are in the chart, else
+      // one of its edges would be on the boundary); its rows and the boundary's values by input
+      // vertex.
+      std::vector<std::uint32_t> inner_input(inner.size());
+      for (std::uint32_t i = 0; i < inner.size(); ++i) inner_input[i] = vertices_[inner[i]];
       Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 2);
-      for (std::uint32_t i = 0; i < inner.size(); ++i) {
-        const std::uint32_t v = vertices_[inner[i]];
-        std::uint32_t degree = 0;
-        for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
-          const auto w = local_vertex_.find(adjacency.neighbours[k]);
-          if (w == local_vertex_.end()) return false;
-          ++degree;
-          if (inner_index[w->second] < kNone - 1) {
-            entries.emplace_back(i, inner_index[w->second], -1.0);
-          } else {
-            rhs(i, 0) += uv_[2 * w->second];
-            rhs(i, 1) += uv_[2 * w->second + 1];
-          }
-        }
-        entries.emplace_back(i, i, static_cast<double>(degree));
-      }
-      Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(inner.size()), static_cast<Eigen::Index>(inner.size()));
-      laplacian.setFromTriplets(entries.begin(), entries.end());
-      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
-      if (solver.info() != Eigen::Success) return false;
-      const Eigen::MatrixXd mapped = solver.solve(rhs);
+      const auto solver = tutte_system(
+          adjacency, inner_input,
+          [&](std::uint32_t w) {
+            const auto l = local_vertex_.find(w);
+            return l != local_vertex_.end() && inner_index[l->second] < kNone - 1 ? inner_index[l->second] : kNone;
+          },
+          [&](std::uint32_t row, std::uint32_t w) {
+            const auto l = local_vertex_.find(w);
+            if (l == local_vertex_.end()) return false;
+            rhs(row, 0) += uv_[2 * l->second], rhs(row, 1) += uv_[2 * l->second + 1];
+            return true;
+          });
+      if (!solver || solver->info() != Eigen::Success) return false;
+      const Eigen::MatrixXd mapped = solver->solve(rhs);
       for (std::uint32_t i = 0; i < inner.size(); ++i) uv_[2 * inner[i]] = mapped(i, 0), uv_[2 * inner[i] + 1] = mapped(i, 1);
     }
+    // Each face's corners in the chart, for to_chart() and to_surface().
+    face_uv_.resize(faces_.size());
+    for (std::size_t f = 0; f < faces_.size(); ++f)
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t l = local_vertex_.at(t[3 * std::size_t{faces_[f]} + i]);
+        face_uv_[f][2 * i] = uv_[2 * l], face_uv_[f][2 * i + 1] = uv_[2 * l + 1];
+      }
     input_ = &input;
     return true;
   }
@@ -217,23 +246,18 @@ class InputChart {
   bool to_chart(std::uint32_t f, const std::array<double, 3>& b, double uv[2]) const {
     const auto found = local_face_.find(f);
     if (found == local_face_.end()) return false;
+    const std::array<double, 6>& corners = face_uv_[found->second];
     uv[0] = uv[1] = 0;
-    for (int i = 0; i < 3; ++i) {
-      const std::uint32_t l = local_vertex_.at(input_->triangles[3 * std::size_t{f} + i]);
-      uv[0] += b[i] * uv_[2 * l], uv[1] += b[i] * uv_[2 * l + 1];
-    }
+    for (int i = 0; i < 3; ++i) uv[0] += b[i] * corners[2 * i], uv[1] += b[i] * corners[2 * i + 1];
     return true;
   }
 
   /// The input point at chart coordinates uv; false if uv is outside the chart.
   bool to_surface(const double uv[2], Vec& p) const {
-    for (const std::uint32_t f : faces_) {
-      const std::uint32_t* t = &input_->triangles[3 * std::size_t{f}];
-      double u[3], w[3];
-      for (int i = 0; i < 3; ++i) {
-        const std::uint32_t l = local_vertex_.at(t[i]);
-        u[i] = uv_[2 * l], w[i] = uv_[2 * l + 1];
-      }
+    for (std::size_t local = 0; local < faces_.size(); ++local) {
+      const std::uint32_t* t = &input_->triangles[3 * std::size_t{faces_[local]}];
+      const std::array<double, 6>& corner = face_uv_[local];
+      const double u[3] = {corner[0], corner[2], corner[4]}, w[3] = {corner[1], corner[3], corner[5]};
       const double area = (u[1] - u[0]) * (w[2] - w[0]) - (u[2] - u[0]) * (w[1] - w[0]);
       if (!(area > 0)) continue;
       const double b1 = ((uv[0] - u[0]) * (w[2] - w[0]) - (u[2] - u[0]) * (uv[1] - w[0])) / area;
@@ -253,6 +277,7 @@ class InputChart {
   std::vector<std::uint32_t> faces_, vertices_;
   std::unordered_map<std::uint32_t, std::uint32_t> local_face_, local_vertex_;
   std::vector<double> uv_;  ///< per local vertex
+  std::vector<std::array<double, 6>> face_uv_;  ///< per chart face: its corners' u, v
 };
 
 }  // namespace
@@ -412,30 +437,21 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           // origin) gives, projected on the plane, the planar Tutte embedding of the projected rim,
           // and along the normal a harmonic height. With uniform weights the system is the graph
           // Laplacian restricted to the inner vertices: symmetric positive definite.
-          std::vector<Eigen::Triplet<double>> entries;
           Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 3);
-          double radius = 0;
-          for (std::uint32_t i = 0; i < inner.size(); ++i) {
-            const std::uint32_t v = inner[i];
-            const std::uint32_t first = adjacency.neighbour_offsets[v], end = adjacency.neighbour_offsets[v + 1];
-            entries.emplace_back(i, i, static_cast<double>(end - first));
-            for (std::uint32_t k = first; k < end; ++k) {
-              const std::uint32_t w = adjacency.neighbours[k];
-              if (local[w] != kNone) {
-                entries.emplace_back(i, local[w], -1.0);
-              } else {
+          const auto solver = tutte_system(
+              adjacency, inner, [&](std::uint32_t w) { return local[w]; },
+              [&](std::uint32_t row, std::uint32_t w) {
                 const Vec d = sub(at(x, w), origin);
-                for (int c = 0; c < 3; ++c) rhs(i, c) += d[c];
-              }
-            }
+                for (int c = 0; c < 3; ++c) rhs(row, c) += d[c];
+                return true;
+              });
+          if (!solver || solver->info() != Eigen::Success) continue;
+          const Eigen::MatrixXd mapped = solver->solve(rhs);
+          double radius = 0;
+          for (const std::uint32_t v : inner) {
             const Vec d = sub(at(x, v), origin);
             radius = std::max(radius, std::sqrt(dot(d, d)));
           }
-          Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(inner.size()), static_cast<Eigen::Index>(inner.size()));
-          laplacian.setFromTriplets(entries.begin(), entries.end());
-          Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
-          if (solver.info() != Eigen::Success) continue;
-          const Eigen::MatrixXd mapped = solver.solve(rhs);
 
           // Lift each inner vertex back onto the input: along the plane's normal (the nearer hit on
           // a face facing the same way within the region's radius), or, second try, to the closest
@@ -480,7 +496,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
                 if (inside) break;
               }
               if (!inside) break;
-              const Eigen::MatrixXd charted = solver.solve(rim);
+              const Eigen::MatrixXd charted = solver->solve(rim);
               std::vector<double> placed(3 * inner.size());
               for (std::uint32_t i = 0; i < inner.size() && inside; ++i) {
                 const double uv[2] = {charted(i, 0), charted(i, 1)};
