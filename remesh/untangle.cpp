@@ -432,11 +432,9 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           for (std::uint32_t v : vertices)
             for (int c = 0; c < 3; ++c) origin[c] += x[3 * v + c] / static_cast<double>(vertices.size());
 
-          // Tutte's barycentric mapping: every inner vertex at the mean of its neighbours, the rim
-          // fixed. The map is linear, so solving it on the world coordinates (relative to the
-          // origin) gives, projected on the plane, the planar Tutte embedding of the projected rim,
-          // and along the normal a harmonic height. With uniform weights the system is the graph
-          // Laplacian restricted to the inner vertices: symmetric positive definite.
+          // Tutte's map (tutte_system), the rim fixed. The map is linear, so solving it on the
+          // world coordinates (relative to the origin) gives, projected on the plane, the planar
+          // Tutte embedding of the projected rim, and along the normal a harmonic height.
           Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 3);
           const auto solver = tutte_system(
               adjacency, inner, [&](std::uint32_t w) { return local[w]; },
@@ -507,19 +505,21 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               if (!inside) break;
               for (std::uint32_t i = 0; i < inner.size(); ++i)
                 for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = placed[3 * i + c];
-            } else for (std::uint32_t i = 0; i < inner.size(); ++i) {
-              const std::uint32_t v = inner[i];
-              const Vec p{origin[0] + mapped(i, 0), origin[1] + mapped(i, 1), origin[2] + mapped(i, 2)};
-              SurfacePoint best;
-              for (double sign : {1.0, -1.0}) {
-                if (lift == 1 || !(radius > 0)) break;
-                const SurfacePoint hit = surface.first_hit(p, {sign * normal[0], sign * normal[1], sign * normal[2]}, 2 * radius);
-                if (hit.face != kNone && dot(input_normal(hit.face), normal) > 0 && (best.face == kNone || hit.distance < best.distance))
-                  best = hit;
+            } else {
+              for (std::uint32_t i = 0; i < inner.size(); ++i) {
+                const std::uint32_t v = inner[i];
+                const Vec p{origin[0] + mapped(i, 0), origin[1] + mapped(i, 1), origin[2] + mapped(i, 2)};
+                SurfacePoint best;
+                for (double sign : {1.0, -1.0}) {
+                  if (lift == 1 || !(radius > 0)) break;
+                  const SurfacePoint hit = surface.first_hit(p, {sign * normal[0], sign * normal[1], sign * normal[2]}, 2 * radius);
+                  if (hit.face != kNone && dot(input_normal(hit.face), normal) > 0 && (best.face == kNone || hit.distance < best.distance))
+                    best = hit;
+                }
+                if (best.face == kNone) best = surface.closest(p, hint);
+                hint = best.face;
+                for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
               }
-              if (best.face == kNone) best = surface.closest(p, hint);
-              hint = best.face;
-              for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
             }
             // Keep the new patch only if it has fewer folded faces than the old one. Only faces
             // with an inner vertex have moved; the count stops as soon as it cannot end below
