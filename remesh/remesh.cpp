@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -92,14 +93,33 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
   return mesh;
 }
 
+/// remesh_by_decimation's abandon_below for a remesh that is never given up.
+constexpr double kNever = -std::numeric_limits<double>::infinity();
+
+/// A quick PSNR of a remesh against the input, on 20,000 samples a side (a tenth of
+/// remesh_psnr's): enough to tell a placement far from the input (about ±0.03 dB, METRIC.md, against
+/// RemeshOptions::give_up_margin).
+double rough_remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed) {
+  MetricOptions metric;
+  metric.samples = 20'000;
+  return surface_distance(input, remeshed.finest(), metric).psnr_db();
+}
+
 /// From the decimated base: fit the base, build the guide, place the refinement on the surface
 /// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
 /// by least squares, untangle again. With --fit loop there are two guides; the placement that
 /// folds fewest faces goes on, one with normal lines among equals, then the closer to the input.
-RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface, const DecimateResult& decimated,
-                                  const FeatureLines& lines, int levels, BaseFit fit, int least_squares_rounds,
-                                  const std::function<void(double)>& report,
-                                  std::vector<std::pair<std::string, double>>& stages) {
+/// A candidate of the automatic density that could only be kept at `abandon_below` dB or more
+/// is given up after its first placement (nullopt) when that placement is so far from the input
+/// that the rest could not bring it there: its PSNR plus `give_up_margin` is below `abandon_below`
+/// (RemeshOptions::give_up_margin); `*psnr_bound`, if given, then receives that sum. kNever:
+/// never given up.
+std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface,
+                                                 const DecimateResult& decimated, const FeatureLines& lines, int levels,
+                                                 BaseFit fit, int least_squares_rounds, double abandon_below,
+                                                 double give_up_margin, double* psnr_bound,
+                                                 const std::function<void(double)>& report,
+                                                 std::vector<std::pair<std::string, double>>& stages) {
   StageClock clock(stages);
   report(0.1);
   const TriangleMesh& base = decimated.base;
@@ -239,6 +259,14 @@ RemeshResult remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& 
 
   place_each_guide(true);
   Placed placed = best_of(candidates);
+  if (abandon_below > kNever) {
+    const double bound = rough_remesh_psnr(mesh, *placed.mesh) + give_up_margin;
+    if (bound < abandon_below) {
+      clock.lap("place, then give up");
+      if (psnr_bound) *psnr_bound = bound;
+      return std::nullopt;
+    }
+  }
   // The normal-line placements fold: those without may fold fewer faces. When they do, the two
   // best are finished (the last stages remove many folds) and compared as they end.
   std::optional<Placed> plain;
@@ -284,6 +312,7 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double d
 
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
+  if (std::isnan(options.give_up_margin)) throw MeshError("give_up_margin must be a number (infinity: never give up)");
   if (options.density != 0 && !(options.density >= 1 && options.density <= 1024))
     throw MeshError("density must be 0 (automatic) or in [1, 1024], got " + std::to_string(options.density));
   if (options.levels < 0 || options.levels > kMaxLevels)
@@ -360,16 +389,24 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   std::vector<std::pair<std::string, double>> stages;  // of every decimation remesh made
   // `base`: a decimation started earlier (else decimated here).
-  auto by_decimation = [&](double density, double from, double to, const FeatureLines& with,
-                           std::future<DecimateResult>* base = nullptr) {
+  auto decimated_for = [&](double density, const FeatureLines& with, std::future<DecimateResult>* base = nullptr) {
     StageClock clock(stages);
-    const DecimateResult decimated = base ? base->get() : decimate_for(density, with);
+    DecimateResult decimated = base ? base->get() : decimate_for(density, with);
     clock.lap(base ? "decimate (rest of the one run alongside)" : "decimate");
-    RemeshResult r = remesh_by_decimation(mesh, surface, decimated, with, options.levels, options.fit,
-                                          options.least_squares_rounds, [&](double f) { report(from + (to - from) * f); },
-                                          stages);
-    r.density = options.base_vertices != 0 ? 0 : density;
+    return decimated;
+  };
+  // The remesh of a decimated base, or nullopt if given up below `abandon_below` dB, with
+  // `*psnr_bound` the most it could have reached (remesh_by_decimation).
+  auto remesh_base = [&](const DecimateResult& decimated, double density, double from, double to,
+                         const FeatureLines& with, double abandon_below = kNever, double* psnr_bound = nullptr) {
+    std::optional<RemeshResult> r = remesh_by_decimation(
+        mesh, surface, decimated, with, options.levels, options.fit, options.least_squares_rounds, abandon_below,
+        options.give_up_margin, psnr_bound, [&](double f) { report(from + (to - from) * f); }, stages);
+    if (r) r->density = options.base_vertices != 0 ? 0 : density;
     return r;
+  };
+  auto by_decimation = [&](double density, double from, double to, const FeatureLines& with) {
+    return std::move(*remesh_base(decimated_for(density, with), density, from, to, with));
   };
   // Errors measured on 200,000 samples a side (±0.01 dB, METRIC.md).
   auto psnr = [&](const RemeshResult& r) {
@@ -401,6 +438,11 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // nowhere (but where the input passes through itself), 2x, then 3x with a margin, else the
     // closest of the three (turbine: 70.0 dB at 2x, 53.4 at 4x).
     auto qualifies = [&](RemeshResult& r, double db) { return db >= options.auto_density_psnr && fold_free(r); };
+    // A candidate that must reach some PSNR to be kept is given up after its first placement
+    // where that shows it cannot (remesh_by_decimation): mannequin-devil's 2x remeshes (55.6 dB
+    // as first placed, 60.4 finished; 75 needed) cost a placement each instead of a remesh.
+    // Same choices as finishing every candidate (docs/RESULTS.md).
+    //
     // A qualifying 2x remesh far within the threshold (a smooth mesh): sparser still, step by
     // step, while the last one kept is that far within and the next qualifies (bear_bis: 84.6 dB
     // at 2x, 83.1 at 1.5x, 80.8 at 1x; BD-rate against Draco -76.8 -> -80.5 % at 1.5x, -82.9 ->
@@ -411,11 +453,13 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       double from = 0.5;
       for (const double density : kSparserAutoDensities) {
         if (kept_psnr < options.sparsest_density_psnr) break;
-        RemeshResult sparser = by_decimation(density, from, from + 0.25, with);
+        std::optional<RemeshResult> sparser =
+            remesh_base(decimated_for(density, with), density, from, from + 0.25, with, options.auto_density_psnr);
         from += 0.25;
-        const double db = psnr(sparser);
-        if (!qualifies(sparser, db)) break;
-        kept = std::move(sparser), kept_psnr = db;
+        if (!sparser) break;
+        const double db = psnr(*sparser);
+        if (!qualifies(*sparser, db)) break;
+        kept = std::move(*sparser), kept_psnr = db;
       }
       return kept;
     };
@@ -423,9 +467,11 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // remesh goes on without them (they can cost a thin part or fold at a crossing:
     // mannequin-devil 68.8 dB at 4x with them, 76.3 without; docs/RESULTS.md).
     if (!lines.empty()) {
-      RemeshResult lined = by_decimation(kAutoDensities[0], 0, 0.5, lines);
-      if (const double lined_psnr = psnr(lined); qualifies(lined, lined_psnr))
-        return sparsest_or(lined, lined_psnr, lines);
+      std::optional<RemeshResult> lined = remesh_base(decimated_for(kAutoDensities[0], lines), kAutoDensities[0], 0,
+                                                      0.5, lines, options.auto_density_psnr);
+      if (lined)
+        if (const double lined_psnr = psnr(*lined); qualifies(*lined, lined_psnr))
+          return sparsest_or(*lined, lined_psnr, lines);
     }
     // The 3x base is decimated alongside the 2x remesh (decimation is single-threaded and would
     // leave the second core idle); it is used only if the 2x remesh falls short.
@@ -436,27 +482,69 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     auto same_base_as_denser = [&](std::size_t base_vertices, double denser) {
       return base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
     };
-    RemeshResult sparse = by_decimation(kAutoDensities[0], 0, 0.5, no_lines);
-    const double sparse_psnr = psnr(sparse);
-    if (qualifies(sparse, sparse_psnr)) return sparsest_or(sparse, sparse_psnr, no_lines);
-    // The closest to the input so far, and the base size of the densest made so far.
-    RemeshResult* closest = &sparse;
-    double closest_psnr = sparse_psnr;
-    std::size_t densest_base = sparse.base_vertices;
-    std::optional<RemeshResult> middle;
+    // The 2x, 3x and 4x remeshes made, in that order: each finished, with its PSNR, or given up,
+    // with the most it could reach. Only one with a denser one to come is given up.
+    struct Made {
+      double density = 0;
+      std::optional<RemeshResult> remesh;
+      double psnr = 0;
+    };
+    std::vector<Made> made;
+    const DecimateResult sparse_base = decimated_for(kAutoDensities[0], no_lines);
+    std::size_t densest_base = sparse_base.base.vertex_count();
+    {
+      Made sparse{kAutoDensities[0], std::nullopt, 0};
+      sparse.remesh = remesh_base(sparse_base, sparse.density, 0, 0.5, no_lines,
+                                  same_base_as_denser(densest_base, kAutoDensities[2]) ? kNever : options.auto_density_psnr,
+                                  &sparse.psnr);
+      if (sparse.remesh) {
+        sparse.psnr = psnr(*sparse.remesh);
+        if (qualifies(*sparse.remesh, sparse.psnr)) return sparsest_or(*sparse.remesh, sparse.psnr, no_lines);
+      }
+      made.push_back(std::move(sparse));
+    }
+    // The closest finished so far (-infinity if none).
+    auto closest_finished = [&] {
+      double db = kNever;
+      for (const Made& m : made)
+        if (m.remesh) db = std::max(db, m.psnr);
+      return db;
+    };
     if (!same_base_as_denser(densest_base, kAutoDensities[1])) {
-      middle = by_decimation(kAutoDensities[1], 0.5, 0.75, no_lines, &middle_base);
-      const double middle_psnr = psnr(*middle);
-      if (middle_psnr >= options.middle_density_psnr && fold_free(*middle)) return std::move(*middle);
-      if (middle_psnr >= closest_psnr) closest = &*middle, closest_psnr = middle_psnr;
-      densest_base = middle->base_vertices;
+      Made middle{kAutoDensities[1], std::nullopt, 0};
+      const DecimateResult base = decimated_for(middle.density, no_lines, &middle_base);
+      densest_base = base.base.vertex_count();
+      middle.remesh = remesh_base(base, middle.density, 0.5, 0.75, no_lines,
+                                  same_base_as_denser(densest_base, kAutoDensities[2]) ? kNever : options.middle_density_psnr,
+                                  &middle.psnr);
+      if (middle.remesh) {
+        middle.psnr = psnr(*middle.remesh);
+        if (middle.psnr >= options.middle_density_psnr && fold_free(*middle.remesh)) return std::move(*middle.remesh);
+      }
+      made.push_back(std::move(middle));
     }
-    std::optional<RemeshResult> dense;
     if (!same_base_as_denser(densest_base, kAutoDensities[2])) {
-      dense = by_decimation(kAutoDensities[2], 0.75, 0.9, no_lines);
-      if (const double dense_psnr = psnr(*dense); dense_psnr >= closest_psnr) closest = &*dense, closest_psnr = dense_psnr;
-      densest_base = dense->base_vertices;
+      // Kept only if at least as close as the closest before it.
+      Made dense{kAutoDensities[2], std::nullopt, 0};
+      const DecimateResult base = decimated_for(dense.density, no_lines);
+      densest_base = base.base.vertex_count();
+      dense.remesh = remesh_base(base, dense.density, 0.75, 0.9, no_lines, closest_finished(), &dense.psnr);
+      if (dense.remesh) dense.psnr = psnr(*dense.remesh);
+      made.push_back(std::move(dense));
     }
+    // One given up could still be the closest if no finished one reaches its bound: finished
+    // after all (not seen on the corpus). Then the closest, the later of equals, as if every one
+    // had been finished.
+    for (Made& m : made)
+      if (!m.remesh && m.psnr >= closest_finished()) {
+        m.remesh = by_decimation(m.density, 0.75, 0.9, no_lines);
+        m.psnr = psnr(*m.remesh);
+      }
+    Made* closest = nullptr;
+    for (Made& m : made)
+      if (m.remesh && (!closest || m.psnr >= closest->psnr)) closest = &m;
+    double closest_psnr = closest->psnr;
+    RemeshResult* closest_remesh = &*closest->remesh;
     // Still short of the top of the 55-75 dB range that the codec's files are measured over (a
     // small input whose 4x base is tiny: cow 66.1 dB, elephant 69.9): the codec's curve would
     // flatten below it at every rate. Denser steps while that lasts, each kept if closer and
@@ -467,15 +555,18 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     double from = 0.9;
     for (const double density : kDenserAutoDensities) {
       if (closest_psnr >= options.dense_density_psnr || same_base_as_denser(densest_base, density)) break;
-      RemeshResult r = by_decimation(density, from, from + 0.05, no_lines);
+      const DecimateResult base = decimated_for(density, no_lines);
+      densest_base = base.base.vertex_count();
+      // Kept only if at least as close as the closest so far: given up where it cannot be.
+      std::optional<RemeshResult> r = remesh_base(base, density, from, from + 0.05, no_lines, closest_psnr);
       from += 0.05;
-      densest_base = r.base_vertices;
-      if (const double db = psnr(r); db >= closest_psnr && fold_free(r)) {
+      if (!r) continue;
+      if (const double db = psnr(*r); db >= closest_psnr && fold_free(*r)) {
         denser = std::move(r);
-        closest = &*denser, closest_psnr = db;
+        closest_remesh = &*denser, closest_psnr = db;
       }
     }
-    return std::move(*closest);
+    return std::move(*closest_remesh);
   }();
   result.stage_seconds = std::move(stages);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
