@@ -1,5 +1,7 @@
 // The remeshing pipeline (remesh.h): any mesh -> semi-regular mesh close to its surface.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 #include <vector>
 
@@ -247,6 +249,49 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   options.density = 0;
   options.base_vertices = 100;
   CHECK(remesh(input, options).density == 0);
+}
+
+TEST_CASE("The automatic density gives up a candidate that cannot qualify after its first placement, and chooses as if it had finished it", "[remesh][pipeline]") {
+  const TriangleMesh input = test::bumpy_sphere();
+  RemeshOptions options;
+  options.levels = 2;
+  options.recognize = false;
+  auto count = [](const RemeshResult& r, const std::string& stage) {
+    return std::count_if(r.stage_seconds.begin(), r.stage_seconds.end(), [&](const auto& s) { return s.first == stage; });
+  };
+  // Thresholds no 2x or 3x remesh reaches: both are given up after their first placement, the
+  // 4x one is finished and kept, as when nothing is given up. (On this smooth sphere the
+  // finished 4x remesh is not 10 dB closer than the 2x one as first placed, so with the
+  // default margin the given-up ones would be finished after all, as below: with a margin of
+  // 0 they stay given up.)
+  options.give_up_margin = 0;
+  options.auto_density_psnr = 500;
+  options.middle_density_psnr = 500;
+  options.dense_density_psnr = 0;
+  const RemeshResult given_up = remesh(input, options);
+  CHECK(count(given_up, "place, then give up") == 2);
+  CHECK(count(given_up, "least squares and untangle") == 1);
+  RemeshOptions never = options;
+  never.give_up_margin = std::numeric_limits<double>::infinity();
+  const RemeshResult finished = remesh(input, never);
+  CHECK(count(finished, "place, then give up") == 0);
+  CHECK(count(finished, "least squares and untangle") == 3);
+  CHECK(given_up.density == 4);
+  CHECK(given_up.density == finished.density);
+  CHECK(given_up.mesh.positions == finished.mesh.positions);
+  // A margin so wide that the given-up ones could still be closer than the 4x remesh: they are
+  // finished after all, and the closest of the three is kept, as when nothing is given up.
+  options.give_up_margin = 1000;
+  options.auto_density_psnr = options.middle_density_psnr = 2000;
+  never.auto_density_psnr = never.middle_density_psnr = 2000;
+  const RemeshResult redone = remesh(input, options);
+  CHECK(count(redone, "place, then give up") == 2);
+  CHECK(count(redone, "least squares and untangle") == 3);
+  const RemeshResult closest = remesh(input, never);
+  CHECK(redone.density == closest.density);
+  CHECK(redone.mesh.positions == closest.mesh.positions);
+  options.give_up_margin = std::nan("");
+  CHECK_THROWS_AS(remesh(input, options), MeshError);
 }
 
 TEST_CASE("The automatic density goes denser where the 4x remesh stays below 75 dB", "[corpus][remesh][pipeline]") {
