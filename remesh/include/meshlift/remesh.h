@@ -74,7 +74,7 @@ struct RemeshOptions {
   /// A candidate of the automatic density that must reach some PSNR to be kept (auto_density_psnr
   /// at 2x, middle_density_psnr at 3x, the closest so far at 4x and denser) is given up after
   /// its first placement when that placement's PSNR plus this margin (dB) falls short: the
-  /// later stages (least-squares fit, untangling) could not bring it there. Over the 30 remeshes
+  /// later stages (least-squares fit, untangling) could not bring it there. Over the 32 remeshes
   /// the automatic density makes of the twelve corpus meshes they added 5.9 dB at the most
   /// (homer at 2x: 64.97 -> 70.91). A given-up candidate that could still have been the closest
   /// is finished after all, so the choice is the one every candidate finished would give as long
