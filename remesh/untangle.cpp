@@ -8,7 +8,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <optional>
 #include <queue>
 #include <span>
@@ -166,20 +165,31 @@ class InputChart {
     // Local vertices, edges and the boundary (directed as its face runs along it).
     vertices_.clear();
     local_vertex_.clear();
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_faces;
-    for (const std::uint32_t f : faces_)
+    // Each face side (face i's side k is 3 i + k) under its undirected edge's key, sorted: a run
+    // of one is a boundary side, of two an inner edge, of more a non-manifold edge.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> sides;
+    sides.reserve(3 * faces_.size());
+    for (std::size_t i = 0; i < faces_.size(); ++i)
       for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = t[3 * std::size_t{f} + k], b = t[3 * std::size_t{f} + (k + 1) % 3];
+        const std::uint32_t a = t[3 * std::size_t{faces_[i]} + k], b = t[3 * std::size_t{faces_[i]} + (k + 1) % 3];
         if (local_vertex_.emplace(a, static_cast<std::uint32_t>(vertices_.size())).second) vertices_.push_back(a);
-        if (++edge_faces[{std::min(a, b), std::max(a, b)}] > 2) return false;
+        sides.emplace_back(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), static_cast<std::uint32_t>(3 * i + k));
       }
+    std::sort(sides.begin(), sides.end());
+    std::vector<std::uint8_t> on_boundary(sides.size(), 0);
+    std::size_t edges = 0;
+    for (std::size_t i = 0, j = 0; i < sides.size(); i = j, ++edges) {
+      while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+      if (j - i > 2) return false;
+      if (j - i == 1) on_boundary[sides[i].second] = 1;
+    }
     std::unordered_map<std::uint32_t, std::uint32_t> next;  // boundary vertex -> the next along the boundary
-    for (const std::uint32_t f : faces_)
+    for (std::size_t i = 0; i < faces_.size(); ++i)
       for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = t[3 * std::size_t{f} + k], b = t[3 * std::size_t{f} + (k + 1) % 3];
-        if (edge_faces[{std::min(a, b), std::max(a, b)}] == 1 && !next.emplace(a, b).second) return false;  // pinched
+        const std::uint32_t a = t[3 * std::size_t{faces_[i]} + k], b = t[3 * std::size_t{faces_[i]} + (k + 1) % 3];
+        if (on_boundary[3 * i + k] && !next.emplace(a, b).second) return false;  // pinched
       }
-    const auto euler = static_cast<long long>(vertices_.size()) - static_cast<long long>(edge_faces.size()) +
+    const auto euler = static_cast<long long>(vertices_.size()) - static_cast<long long>(edges) +
                        static_cast<long long>(faces_.size());
     if (euler != 1 || next.empty()) return false;
     // One boundary loop, walked from any of its vertices, to the circle by arc length.
