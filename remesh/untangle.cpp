@@ -114,15 +114,34 @@ std::optional<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> tutte_system(c
 /// the chart serves the rare patches that two lifts could not untangle).
 class InputChart {
  public:
+  /// One chart at a time of `input`, rebuilt by build(): its per-vertex and per-face marks are
+  /// arrays over the input, made once and told apart from an earlier build's by a stamp.
+  InputChart(const TriangleMesh& input, const Adjacency& adjacency)
+      : input_(input),
+        adjacency_(adjacency),
+        settled_(input.vertex_count(), 0),
+        vertex_stamp_(input.vertex_count(), 0),
+        local_vertex_(input.vertex_count()),
+        face_stamp_(input.face_count(), 0),
+        local_face_(input.face_count()) {}
+
   /// False if the faces found are not a disk (a tube, a handle, a pinched boundary) or too many.
-  bool build(const TriangleMesh& input, const Adjacency& adjacency, const SurfacePoint& from, double radius) {
+  bool build(const SurfacePoint& from, double radius) {
     constexpr std::size_t kMaxFaces = 20000;  // far above what a patch of 8 rings needs
+    if (++stamp_ == 0) {  // after 2^32 builds: every mark is from an earlier one
+      std::fill(settled_.begin(), settled_.end(), 0);
+      std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0);
+      std::fill(face_stamp_.begin(), face_stamp_.end(), 0);
+      stamp_ = 1;
+    }
+    const TriangleMesh& input = input_;
+    const Adjacency& adjacency = adjacency_;
     const std::vector<std::uint32_t>& t = input.triangles;
     const std::uint32_t seed = from.face;
     // Distances along the input's edges from the point `from` (Dijkstra, to `radius`): a ball
     // along the surface, which follows a thin part around its edge where a ball in space would
     // take in its far side.
-    std::unordered_map<std::uint32_t, double> distance;
+    std::size_t settled = 0;
     using Entry = std::pair<double, std::uint32_t>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
     for (int i = 0; i < 3; ++i) {
@@ -133,38 +152,37 @@ class InputChart {
     while (!queue.empty()) {
       const auto [d, v] = queue.top();
       queue.pop();
-      if (d > radius || distance.count(v)) continue;
-      distance.emplace(v, d);
-      if (distance.size() > kMaxFaces) return false;
+      if (d > radius || settled_[v] == stamp_) continue;
+      settled_[v] = stamp_;  // within the radius along the edges
+      if (++settled > kMaxFaces) return false;
       for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
         const std::uint32_t w = adjacency.neighbours[k];
-        if (distance.count(w)) continue;
+        if (settled_[w] == stamp_) continue;
         const Vec e = sub(at(input.positions, w), at(input.positions, v));
         queue.emplace(d + std::sqrt(dot(e, e)), w);
       }
     }
     auto within = [&](std::uint32_t f) {  // a corner within the radius (input faces may be larger than it)
       for (int i = 0; i < 3; ++i)
-        if (distance.count(t[3 * std::size_t{f} + i])) return true;
+        if (settled_[t[3 * std::size_t{f} + i]] == stamp_) return true;
       return false;
     };
     if (!within(seed)) return false;
     faces_ = {seed};
-    local_face_ = {{seed, 0}};
+    face_stamp_[seed] = stamp_, local_face_[seed] = 0;
     for (std::size_t i = 0; i < faces_.size(); ++i)
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = t[3 * std::size_t{faces_[i]} + k];
         for (std::uint32_t j = adjacency.face_offsets[v]; j < adjacency.face_offsets[v + 1]; ++j) {
           const std::uint32_t f = adjacency.faces[j];
-          if (local_face_.count(f) || !within(f)) continue;
+          if (face_stamp_[f] == stamp_ || !within(f)) continue;
           if (faces_.size() == kMaxFaces) return false;
-          local_face_.emplace(f, static_cast<std::uint32_t>(faces_.size()));
+          face_stamp_[f] = stamp_, local_face_[f] = static_cast<std::uint32_t>(faces_.size());
           faces_.push_back(f);
         }
       }
     // Local vertices, edges and the boundary (directed as its face runs along it).
     vertices_.clear();
-    local_vertex_.clear();
     // Each face side (face i's side k is 3 i + k) under its undirected edge's key, sorted: a run
     // of one is a boundary side, of two an inner edge, of more a non-manifold edge.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> sides;
@@ -172,7 +190,10 @@ class InputChart {
     for (std::size_t i = 0; i < faces_.size(); ++i)
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = t[3 * std::size_t{faces_[i]} + k], b = t[3 * std::size_t{faces_[i]} + (k + 1) % 3];
-        if (local_vertex_.emplace(a, static_cast<std::uint32_t>(vertices_.size())).second) vertices_.push_back(a);
+        if (vertex_stamp_[a] != stamp_) {
+          vertex_stamp_[a] = stamp_, local_vertex_[a] = static_cast<std::uint32_t>(vertices_.size());
+          vertices_.push_back(a);
+        }
         sides.emplace_back(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), static_cast<std::uint32_t>(3 * i + k));
       }
     std::sort(sides.begin(), sides.end());
@@ -209,7 +230,7 @@ class InputChart {
     uv_.assign(2 * vertices_.size(), 0.0);
     std::vector<std::uint32_t> inner_index(vertices_.size(), kNone);
     for (std::size_t i = 0; i < loop.size(); ++i) {
-      const std::uint32_t l = local_vertex_.at(loop[i]);
+      const std::uint32_t l = local_vertex_[loop[i]];
       uv_[2 * l] = std::cos(kTwoPi * arc[i] / arc.back());
       uv_[2 * l + 1] = std::sin(kTwoPi * arc[i] / arc.back());
       inner_index[l] = kNone - 1;  // on the boundary
@@ -227,13 +248,12 @@ class InputChart {
       const auto solver = tutte_system(
           adjacency, inner_input,
           [&](std::uint32_t w) {
-            const auto l = local_vertex_.find(w);
-            return l != local_vertex_.end() && inner_index[l->second] < kNone - 1 ? inner_index[l->second] : kNone;
+            return vertex_stamp_[w] == stamp_ && inner_index[local_vertex_[w]] < kNone - 1 ? inner_index[local_vertex_[w]]
+                                                                                           : kNone;
           },
           [&](std::uint32_t row, std::uint32_t w) {
-            const auto l = local_vertex_.find(w);
-            if (l == local_vertex_.end()) return false;
-            rhs(row, 0) += uv_[2 * l->second], rhs(row, 1) += uv_[2 * l->second + 1];
+            if (vertex_stamp_[w] != stamp_) return false;
+            rhs(row, 0) += uv_[2 * local_vertex_[w]], rhs(row, 1) += uv_[2 * local_vertex_[w] + 1];
             return true;
           });
       if (!solver || solver->info() != Eigen::Success) return false;
@@ -244,19 +264,17 @@ class InputChart {
     face_uv_.resize(faces_.size());
     for (std::size_t f = 0; f < faces_.size(); ++f)
       for (int i = 0; i < 3; ++i) {
-        const std::uint32_t l = local_vertex_.at(t[3 * std::size_t{faces_[f]} + i]);
+        const std::uint32_t l = local_vertex_[t[3 * std::size_t{faces_[f]} + i]];
         face_uv_[f][2 * i] = uv_[2 * l], face_uv_[f][2 * i + 1] = uv_[2 * l + 1];
       }
-    input_ = &input;
     return true;
   }
 
   /// The chart coordinates of the point with barycentric coordinates `b` on input face f; false
   /// if f is not in the chart.
   bool to_chart(std::uint32_t f, const std::array<double, 3>& b, double uv[2]) const {
-    const auto found = local_face_.find(f);
-    if (found == local_face_.end()) return false;
-    const std::array<double, 6>& corners = face_uv_[found->second];
+    if (face_stamp_[f] != stamp_) return false;
+    const std::array<double, 6>& corners = face_uv_[local_face_[f]];
     uv[0] = uv[1] = 0;
     for (int i = 0; i < 3; ++i) uv[0] += b[i] * corners[2 * i], uv[1] += b[i] * corners[2 * i + 1];
     return true;
@@ -265,7 +283,7 @@ class InputChart {
   /// The input point at chart coordinates uv; false if uv is outside the chart.
   bool to_surface(const double uv[2], Vec& p) const {
     for (std::size_t local = 0; local < faces_.size(); ++local) {
-      const std::uint32_t* t = &input_->triangles[3 * std::size_t{faces_[local]}];
+      const std::uint32_t* t = &input_.triangles[3 * std::size_t{faces_[local]}];
       const std::array<double, 6>& corner = face_uv_[local];
       const double u[3] = {corner[0], corner[2], corner[4]}, w[3] = {corner[1], corner[3], corner[5]};
       const double area = (u[1] - u[0]) * (w[2] - w[0]) - (u[2] - u[0]) * (w[1] - w[0]);
@@ -275,7 +293,7 @@ class InputChart {
       const double b0 = 1 - b1 - b2;
       constexpr double kSlack = -1e-9;
       if (b0 < kSlack || b1 < kSlack || b2 < kSlack) continue;
-      const Vec a = at(input_->positions, t[0]), b = at(input_->positions, t[1]), c = at(input_->positions, t[2]);
+      const Vec a = at(input_.positions, t[0]), b = at(input_.positions, t[1]), c = at(input_.positions, t[2]);
       for (int k = 0; k < 3; ++k) p[k] = b0 * a[k] + b1 * b[k] + b2 * c[k];
       return true;
     }
@@ -283,9 +301,13 @@ class InputChart {
   }
 
  private:
-  const TriangleMesh* input_ = nullptr;
+  const TriangleMesh& input_;
+  const Adjacency& adjacency_;
+  /// Per input vertex: reached within the radius, in the chart and its local index; per input
+  /// face: in the chart and its local index. A mark holds where it equals stamp_.
+  std::vector<std::uint32_t> settled_, vertex_stamp_, local_vertex_, face_stamp_, local_face_;
+  std::uint32_t stamp_ = 0;  ///< of the last build
   std::vector<std::uint32_t> faces_, vertices_;
-  std::unordered_map<std::uint32_t, std::uint32_t> local_face_, local_vertex_;
   std::vector<double> uv_;  ///< per local vertex
   std::vector<std::array<double, 6>> face_uv_;  ///< per chart face: its corners' u, v
 };
@@ -348,6 +370,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
 
   std::vector<std::uint32_t> stamp(faces, 0), vertex_stamp(n, 0), local(n, kNone);
   std::optional<Adjacency> input_adjacency;  // made when a patch first needs an InputChart
+  std::optional<InputChart> chart;
   std::uint32_t generation = 0;
   // Attempts that failed are not repeated while nothing they read has moved. An attempt, on a
   // patch or at a vertex, is a function of the positions of the vertices it reads (a patch's
@@ -474,7 +497,10 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               // (InputChart), its rim where the closest points of its vertices fall, the inner
               // vertices then at the input points of their chart coordinates. The rim need not
               // be convex in the chart, so this too may fold; it is kept on the same condition.
-              if (!input_adjacency) input_adjacency.emplace(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
+              if (!input_adjacency) {
+                input_adjacency.emplace(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
+                chart.emplace(input, *input_adjacency);
+              }
               double reach = 0;
               for (const std::uint32_t v : vertices) {
                 const Vec d = sub(at(x, v), origin);
@@ -483,12 +509,11 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               // The chart's radius along the surface: twice the patch's, else smaller (a ball that
               // takes in a thin part's whole section is a tube, not a disk), else larger (one
               // that misses rim vertices' closest points).
-              InputChart chart;
               Eigen::MatrixXd rim = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 2);
               bool inside = false;
               const SurfacePoint middle = surface.closest(origin, hint);
               for (const double scale : {2.0, 1.25, 3.0}) {
-                if (!chart.build(input, *input_adjacency, middle, scale * reach)) continue;
+                if (!chart->build(middle, scale * reach)) continue;
                 rim.setZero();
                 inside = true;
                 for (std::uint32_t i = 0; i < inner.size() && inside; ++i)
@@ -498,7 +523,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
                     const SurfacePoint on = surface.closest(at(x, w), hint);
                     hint = on.face;
                     double uv[2] = {0, 0};
-                    inside = chart.to_chart(on.face, on.barycentric, uv);
+                    inside = chart->to_chart(on.face, on.barycentric, uv);
                     rim(i, 0) += uv[0], rim(i, 1) += uv[1];
                   }
                 if (inside) break;
@@ -509,7 +534,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
               for (std::uint32_t i = 0; i < inner.size() && inside; ++i) {
                 const double uv[2] = {charted(i, 0), charted(i, 1)};
                 Vec p{0, 0, 0};
-                inside = chart.to_surface(uv, p);
+                inside = chart->to_surface(uv, p);
                 for (int c = 0; c < 3; ++c) placed[3 * i + c] = p[c];
               }
               if (!inside) break;
