@@ -482,41 +482,62 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     auto same_base_as_denser = [&](std::size_t base_vertices, double denser) {
       return base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
     };
-    // The 2x, 3x and 4x remeshes made, in that order: each finished, with its PSNR, or given up,
-    // with the most it could reach. Only one with a denser one to come is given up.
+    // The 2x, 3x and 4x remeshes made, in that order: each finished, with its PSNR, or given up
+    // after its first placement, with the most it could reach. One is given up only where a
+    // later one will be made whatever it reaches: a denser one of the three, or a denser step
+    // (below dense_density_psnr). What a candidate that must reach `keep` may be given up below:
+    auto give_up_below = [&](std::size_t base_vertices, double keep) {
+      if (!same_base_as_denser(base_vertices, kAutoDensities[2])) return keep;
+      if (!same_base_as_denser(base_vertices, kDenserAutoDensities[0])) return std::min(keep, options.dense_density_psnr);
+      return kNever;
+    };
     struct Made {
       double density = 0;
       std::optional<RemeshResult> remesh;
       double psnr = 0;
     };
     std::vector<Made> made;
-    const DecimateResult sparse_base = decimated_for(kAutoDensities[0], no_lines);
-    std::size_t densest_base = sparse_base.base.vertex_count();
-    {
-      Made sparse{kAutoDensities[0], std::nullopt, 0};
-      sparse.remesh = remesh_base(sparse_base, sparse.density, 0, 0.5, no_lines,
-                                  same_base_as_denser(densest_base, kAutoDensities[2]) ? kNever : options.auto_density_psnr,
-                                  &sparse.psnr);
-      if (sparse.remesh) {
-        sparse.psnr = psnr(*sparse.remesh);
-        if (qualifies(*sparse.remesh, sparse.psnr)) return sparsest_or(*sparse.remesh, sparse.psnr, no_lines);
-      }
-      made.push_back(std::move(sparse));
-    }
-    // The closest finished so far (-infinity if none).
+    auto finish = [&](Made& m) {
+      m.remesh = by_decimation(m.density, 0.9, 0.9, no_lines);
+      m.psnr = psnr(*m.remesh);
+    };
+    // The closest finished so far (-infinity if none): at most the closest made.
     auto closest_finished = [&] {
       double db = kNever;
       for (const Made& m : made)
         if (m.remesh) db = std::max(db, m.psnr);
       return db;
     };
+    // Whether every one made has a PSNR for which `holds` (x < X or x <= X) is true; a given-up
+    // one is finished only where its bound leaves that open.
+    auto all_made = [&](const auto& holds) {
+      for (Made& m : made)
+        if (m.remesh && !holds(m.psnr)) return false;
+      for (Made& m : made)
+        if (!m.remesh && !holds(m.psnr)) {
+          finish(m);
+          if (!holds(m.psnr)) return false;
+        }
+      return true;
+    };
+    const DecimateResult sparse_base = decimated_for(kAutoDensities[0], no_lines);
+    std::size_t densest_base = sparse_base.base.vertex_count();
+    {
+      Made sparse{kAutoDensities[0], std::nullopt, 0};
+      sparse.remesh = remesh_base(sparse_base, sparse.density, 0, 0.5, no_lines,
+                                  give_up_below(densest_base, options.auto_density_psnr), &sparse.psnr);
+      if (sparse.remesh) {
+        sparse.psnr = psnr(*sparse.remesh);
+        if (qualifies(*sparse.remesh, sparse.psnr)) return sparsest_or(*sparse.remesh, sparse.psnr, no_lines);
+      }
+      made.push_back(std::move(sparse));
+    }
     if (!same_base_as_denser(densest_base, kAutoDensities[1])) {
       Made middle{kAutoDensities[1], std::nullopt, 0};
       const DecimateResult base = decimated_for(middle.density, no_lines, &middle_base);
       densest_base = base.base.vertex_count();
       middle.remesh = remesh_base(base, middle.density, 0.5, 0.75, no_lines,
-                                  same_base_as_denser(densest_base, kAutoDensities[2]) ? kNever : options.middle_density_psnr,
-                                  &middle.psnr);
+                                  give_up_below(densest_base, options.middle_density_psnr), &middle.psnr);
       if (middle.remesh) {
         middle.psnr = psnr(*middle.remesh);
         if (middle.psnr >= options.middle_density_psnr && fold_free(*middle.remesh)) return std::move(*middle.remesh);
@@ -532,19 +553,6 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       if (dense.remesh) dense.psnr = psnr(*dense.remesh);
       made.push_back(std::move(dense));
     }
-    // One given up could still be the closest if no finished one reaches its bound: finished
-    // after all (not seen on the corpus). Then the closest, the later of equals, as if every one
-    // had been finished.
-    for (Made& m : made)
-      if (!m.remesh && m.psnr >= closest_finished()) {
-        m.remesh = by_decimation(m.density, 0.75, 0.9, no_lines);
-        m.psnr = psnr(*m.remesh);
-      }
-    Made* closest = nullptr;
-    for (Made& m : made)
-      if (m.remesh && (!closest || m.psnr >= closest->psnr)) closest = &m;
-    double closest_psnr = closest->psnr;
-    RemeshResult* closest_remesh = &*closest->remesh;
     // Still short of the top of the 55-75 dB range that the codec's files are measured over (a
     // small input whose 4x base is tiny: cow 66.1 dB, elephant 69.9): the codec's curve would
     // flatten below it at every rate. Denser steps while that lasts, each kept if closer and
@@ -552,21 +560,35 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // Draco -30.2 -> -39.2 %; cow's 6x remesh folds a face away from its crossings, its 8x one is
     // 74.5 dB, -18.8 -> -32.4 %; docs/RESULTS.md).
     std::optional<RemeshResult> denser;
+    double denser_psnr = kNever;
     double from = 0.9;
     for (const double density : kDenserAutoDensities) {
-      if (closest_psnr >= options.dense_density_psnr || same_base_as_denser(densest_base, density)) break;
+      if (same_base_as_denser(densest_base, density) || denser_psnr >= options.dense_density_psnr ||
+          !all_made([&](double db) { return db < options.dense_density_psnr; }))
+        break;
       const DecimateResult base = decimated_for(density, no_lines);
       densest_base = base.base.vertex_count();
       // Kept only if at least as close as the closest so far: given up where it cannot be.
-      std::optional<RemeshResult> r = remesh_base(base, density, from, from + 0.05, no_lines, closest_psnr);
+      std::optional<RemeshResult> r = remesh_base(base, density, from, from + 0.05, no_lines,
+                                                  std::max(denser_psnr, closest_finished()));
       from += 0.05;
       if (!r) continue;
-      if (const double db = psnr(*r); db >= closest_psnr && fold_free(*r)) {
+      if (const double db = psnr(*r);
+          db >= denser_psnr && fold_free(*r) && all_made([&](double made_db) { return made_db <= db; })) {
         denser = std::move(r);
-        closest_remesh = &*denser, closest_psnr = db;
+        denser_psnr = db;
       }
     }
-    return std::move(*closest_remesh);
+    if (denser) return std::move(*denser);
+    // The closest of the 2x, 3x and 4x ones, the later of equals, as if every one had been
+    // finished: a given-up one is finished after all if it could still be it (not seen on the
+    // corpus).
+    for (Made& m : made)
+      if (!m.remesh && m.psnr >= closest_finished()) finish(m);
+    Made* closest = nullptr;
+    for (Made& m : made)
+      if (m.remesh && (!closest || m.psnr >= closest->psnr)) closest = &m;
+    return std::move(*closest->remesh);
   }();
   result.stage_seconds = std::move(stages);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {

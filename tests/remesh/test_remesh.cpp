@@ -300,6 +300,17 @@ TEST_CASE("The automatic density goes denser where the 4x remesh stays below 75 
   // BD-rate against Draco -30.2 -> -39.2 %), so 8x is not tried. Knot1 (76.0 dB at 4x) stays.
   const TriangleMesh elephant = to_triangle_mesh(read_mesh(test::corpus_mesh_path("elephant")));
   const RemeshResult result = remesh(elephant, RemeshOptions{});
+  // Its 2x remesh (on the 3x base too: the decimation stops at 154 vertices) is given up after
+  // its first placement (47.5 dB there), and the choice is the one made when every candidate is
+  // finished.
+  auto given_up = [](const RemeshResult& r) {
+    return std::count_if(r.stage_seconds.begin(), r.stage_seconds.end(),
+                         [](const auto& s) { return s.first == "place, then give up"; });
+  };
+  RemeshOptions never;
+  never.give_up_margin = std::numeric_limits<double>::infinity();
+  CHECK(given_up(result) == 1);
+  CHECK(result.mesh.positions == remesh(elephant, never).mesh.positions);
   CHECK(result.density == kDenserAutoDensities[0]);
   CHECK(result.flipped_triangles == 0);
   CHECK(result.degenerate_triangles == 0);
@@ -310,6 +321,9 @@ TEST_CASE("The automatic density goes denser where the 4x remesh stays below 75 
   // (74.5 dB) folds only where the input passes through itself.
   const TriangleMesh cow = to_triangle_mesh(read_mesh(test::corpus_mesh_path("cow")));
   const RemeshResult cow_result = remesh(cow, RemeshOptions{});
+  // Its one base for 2x to 4x (61.8 dB as first placed) is given up: the denser steps follow.
+  CHECK(given_up(cow_result) == 1);
+  CHECK(cow_result.mesh.positions == remesh(cow, never).mesh.positions);
   CHECK(cow_result.density == kDenserAutoDensities[1]);
   CHECK(cow_result.flipped_where_input_crosses == cow_result.flipped_triangles);
   CHECK(surface_distance(cow, cow_result.mesh.finest()).psnr_db() > 74);
