@@ -10,11 +10,13 @@
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/Observer.hh>
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -313,7 +315,51 @@ std::size_t automatic_base_vertices(const TriangleMesh& mesh, int levels) {
   return automatic_target(report.referenced_vertices, levels, find_components(mesh, report));
 }
 
-DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
+namespace {
+
+/// The mesh as it stands: its live vertices in index order (deleted ones skipped), their faces.
+DecimateResult live_mesh(const HalfedgeMesh& half_edge, const std::vector<std::uint32_t>& input_index,
+                         std::size_t collapses) {
+  DecimateResult result;
+  result.collapses = collapses;
+  std::vector<std::uint32_t> base_index(half_edge.n_vertices(), kNone);
+  for (const auto v : half_edge.vertices()) {  // skips deleted vertices
+    base_index[v.idx()] = static_cast<std::uint32_t>(result.original_vertex.size());
+    result.original_vertex.push_back(input_index[v.idx()]);
+    const auto& p = half_edge.point(v);
+    result.base.positions.insert(result.base.positions.end(), {p[0], p[1], p[2]});
+  }
+  for (const auto f : half_edge.faces())
+    for (const auto v : half_edge.fv_range(f)) result.base.triangles.push_back(base_index[v.idx()]);
+  return result;
+}
+
+/// Takes the decimater's mesh as it stands after given numbers of collapses (increasing), as
+/// the decimater notifies it after each one.
+class Snapshots : public OpenMesh::Decimater::Observer {
+ public:
+  Snapshots(const HalfedgeMesh& half_edge, const std::vector<std::uint32_t>& input_index, std::vector<std::size_t> at)
+      : Observer(1), half_edge_(half_edge), input_index_(input_index), at_(std::move(at)) {}
+  void notify(std::size_t collapses) override {
+    while (taken_.size() < at_.size() && at_[taken_.size()] == collapses)
+      taken_.push_back(live_mesh(half_edge_, input_index_, collapses));
+  }
+  /// The snapshots, those not reached (the decimation stopped first) being the final mesh.
+  std::vector<DecimateResult> finish(std::size_t collapses) {
+    while (taken_.size() < at_.size()) taken_.push_back(live_mesh(half_edge_, input_index_, collapses));
+    return std::move(taken_);
+  }
+
+ private:
+  const HalfedgeMesh& half_edge_;
+  const std::vector<std::uint32_t>& input_index_;
+  std::vector<std::size_t> at_;
+  std::vector<DecimateResult> taken_;
+};
+
+/// decimate() to each of `targets` (0: the automatic target), in one run.
+std::vector<DecimateResult> decimate_to_targets(const TriangleMesh& mesh, const DecimateOptions& options,
+                                                std::span<const std::size_t> targets) {
   check_options(options);
   const MeshReport report = checked_report(mesh);
   const Components components = find_components(mesh, report);
@@ -347,11 +393,24 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
   std::vector<std::size_t> floor(components.vertices.size());
   for (std::size_t c = 0; c < floor.size(); ++c)
     floor[c] = automatic ? components.topological_floor[c] : std::min<std::size_t>(components.vertices[c], 4);
-  const std::size_t target =
-      automatic ? automatic_target(input_index.size(), options.levels, components) : options.target_vertices;
+  // The targets' collapse counts, fewest first: the decimater pops its heap in the same order
+  // whatever its target, so the mesh after k collapses of a run to a smaller target is the one a
+  // run to V - k vertices ends with.
+  std::vector<std::size_t> at;
+  for (const std::size_t target : targets) {
+    const std::size_t t = target == 0 ? automatic_target(input_index.size(), options.levels, components) : target;
+    at.push_back(input_index.size() - std::min(t, input_index.size()));
+  }
+  std::vector<std::size_t> order(at.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return at[a] < at[b]; });
+  std::vector<std::size_t> sorted_at;
+  for (const std::size_t i : order) sorted_at.push_back(at[i]);
+  Snapshots snapshots(half_edge, input_index, sorted_at);
+  snapshots.notify(0);  // targets the input already meets
 
   std::size_t collapses = 0;
-  if (target < input_index.size()) {
+  if (!sorted_at.empty() && sorted_at.back() > 0) {
     OpenMesh::Decimater::DecimaterT<HalfedgeMesh> decimater(half_edge);
     ModBoundaryQuadricT<HalfedgeMesh>::Handle quadric;
     OpenMesh::Decimater::ModNormalFlippingT<HalfedgeMesh>::Handle normal_flipping;
@@ -372,21 +431,30 @@ DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options
       decimater.module(feature_lines).set_lines(*options.feature_lines, handle);
     }
     if (!decimater.initialize()) throw std::logic_error("decimate: OpenMesh's decimater did not initialize");
-    collapses = decimater.decimate_to(target);
+    decimater.set_observer(&snapshots);
+    collapses = decimater.decimate(sorted_at.back());
+    decimater.set_observer(nullptr);
   }
+  std::vector<DecimateResult> taken = snapshots.finish(collapses);
+  std::vector<DecimateResult> results(taken.size());
+  for (std::size_t k = 0; k < order.size(); ++k) results[order[k]] = std::move(taken[k]);
+  return results;
+}
 
-  DecimateResult result;
-  result.collapses = collapses;
-  std::vector<std::uint32_t> base_index(half_edge.n_vertices(), kNone);
-  for (const auto v : half_edge.vertices()) {  // skips deleted vertices
-    base_index[v.idx()] = static_cast<std::uint32_t>(result.original_vertex.size());
-    result.original_vertex.push_back(input_index[v.idx()]);
-    const auto& p = half_edge.point(v);
-    result.base.positions.insert(result.base.positions.end(), {p[0], p[1], p[2]});
-  }
-  for (const auto f : half_edge.faces())
-    for (const auto v : half_edge.fv_range(f)) result.base.triangles.push_back(base_index[v.idx()]);
-  return result;
+}  // namespace
+
+DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
+  const std::size_t target = options.target_vertices;
+  return std::move(decimate_to_targets(mesh, options, std::span(&target, 1)).front());
+}
+
+std::vector<DecimateResult> decimate_each(const TriangleMesh& mesh, const DecimateOptions& options,
+                                          std::span<const std::size_t> targets) {
+  for (const std::size_t target : targets)
+    if (target == 0) throw std::invalid_argument("decimate_each: targets must be > 0");
+  DecimateOptions explicit_targets = options;
+  explicit_targets.target_vertices = targets.empty() ? 1 : targets.front();
+  return decimate_to_targets(mesh, explicit_targets, targets);
 }
 
 }  // namespace meshlift

@@ -299,15 +299,21 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   return result;
 }
 
-}  // namespace
-
-std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double density) {
+/// automatic_remesh_base() for an input of `vertices` vertices whose automatic_base_vertices()
+/// is `decimator_floor` (it validates the mesh: worth computing once).
+std::size_t base_for_density(std::size_t vertices, int levels, double density, std::size_t decimator_floor) {
   // Below 1 the decimator's own automatic size, ceil(V / 4^L), would take over anyway.
   if (!(density >= 1 && density <= 1024))
     throw MeshError("density must be in [1, 1024], got " + std::to_string(density));
   const double refinement = std::ldexp(1.0, 2 * levels);
-  const auto from_density = static_cast<std::size_t>(std::ceil(density * static_cast<double>(mesh.vertex_count()) / refinement));
-  return std::max(from_density, automatic_base_vertices(mesh, levels));
+  const auto from_density = static_cast<std::size_t>(std::ceil(density * static_cast<double>(vertices) / refinement));
+  return std::max(from_density, decimator_floor);
+}
+
+}  // namespace
+
+std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double density) {
+  return base_for_density(mesh.vertex_count(), levels, density, automatic_base_vertices(mesh, levels));
 }
 
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
@@ -379,21 +385,43 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   const FeatureLines lines = find_feature_lines(mesh, options.feature_angle, options.feature_min_edges,
                                                 options.feature_max_turn, options.feature_max_side);
   const FeatureLines no_lines;
+  // The base size for a density (automatic_remesh_base(), the mesh validated once).
+  std::optional<std::size_t> decimator_floor;
+  auto base_size = [&](double density) {
+    if (!decimator_floor) decimator_floor = automatic_base_vertices(mesh, options.levels);
+    return base_for_density(mesh.vertex_count(), options.levels, density, *decimator_floor);
+  };
   auto decimate_for = [&](double density, const FeatureLines& with) {
     DecimateOptions decimate_options;
     decimate_options.feature_lines = &with;
     decimate_options.levels = options.levels;
     decimate_options.target_vertices =
-        options.base_vertices != 0 ? options.base_vertices : automatic_remesh_base(mesh, options.levels, density);
+        options.base_vertices != 0 ? options.base_vertices : base_size(density);
     return decimate(mesh, decimate_options);
   };
   std::vector<std::pair<std::string, double>> stages;  // of every decimation remesh made
-  // `base`: a decimation started earlier (else decimated here).
-  auto decimated_for = [&](double density, const FeatureLines& with, std::future<DecimateResult>* base = nullptr) {
-    StageClock clock(stages);
-    DecimateResult decimated = base ? base->get() : decimate_for(density, with);
-    clock.lap(base ? "decimate (rest of the one run alongside)" : "decimate");
-    return decimated;
+  // The automatic density's bases, with and without the feature lines: each set from one
+  // decimation, made when first needed, that stops at every density's base on its way
+  // (decimate_each: the bases decimate() would make, byte for byte, for the cost of the
+  // smallest; armadillo subdivided to 104,002 vertices decimated in 3.3 s per density tried).
+  std::vector<double> auto_densities(std::begin(kAutoDensities), std::end(kAutoDensities));
+  auto_densities.insert(auto_densities.end(), std::begin(kDenserAutoDensities), std::end(kDenserAutoDensities));
+  auto_densities.insert(auto_densities.end(), std::begin(kSparserAutoDensities), std::end(kSparserAutoDensities));
+  std::optional<std::vector<DecimateResult>> auto_bases[2];  // [1]: with the lines
+  auto auto_base = [&](double density, const FeatureLines& with) -> const DecimateResult& {
+    std::optional<std::vector<DecimateResult>>& bases = auto_bases[&with == &lines];
+    if (!bases) {
+      StageClock clock(stages);
+      DecimateOptions decimate_options;
+      decimate_options.feature_lines = &with;
+      decimate_options.levels = options.levels;
+      std::vector<std::size_t> targets;
+      for (const double d : auto_densities) targets.push_back(base_size(d));
+      bases = decimate_each(mesh, decimate_options, targets);
+      clock.lap("decimate");
+    }
+    const auto at = std::find(auto_densities.begin(), auto_densities.end(), density);
+    return (*bases)[static_cast<std::size_t>(at - auto_densities.begin())];
   };
   // The remesh of a decimated base, or nullopt if given up below `abandon_below` dB, with
   // `*psnr_bound` the most it could have reached (remesh_by_decimation).
@@ -406,7 +434,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     return r;
   };
   auto by_decimation = [&](double density, double from, double to, const FeatureLines& with) {
-    return std::move(*remesh_base(decimated_for(density, with), density, from, to, with));
+    StageClock clock(stages);
+    const DecimateResult decimated = decimate_for(density, with);
+    clock.lap("decimate");
+    return std::move(*remesh_base(decimated, density, from, to, with));
   };
   // Errors measured on 200,000 samples a side (±0.01 dB, METRIC.md).
   auto psnr = [&](const RemeshResult& r) {
@@ -454,7 +485,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       for (const double density : kSparserAutoDensities) {
         if (kept_psnr < options.sparsest_density_psnr) break;
         std::optional<RemeshResult> sparser =
-            remesh_base(decimated_for(density, with), density, from, from + 0.25, with, options.auto_density_psnr);
+            remesh_base(auto_base(density, with), density, from, from + 0.25, with, options.auto_density_psnr);
         from += 0.25;
         if (!sparser) break;
         const double db = psnr(*sparser);
@@ -467,20 +498,16 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // remesh goes on without them (they can cost a thin part or fold at a crossing:
     // mannequin-devil 68.8 dB at 4x with them, 76.3 without; docs/RESULTS.md).
     if (!lines.empty()) {
-      std::optional<RemeshResult> lined = remesh_base(decimated_for(kAutoDensities[0], lines), kAutoDensities[0], 0,
-                                                      0.5, lines, options.auto_density_psnr);
+      std::optional<RemeshResult> lined =
+          remesh_base(auto_base(kAutoDensities[0], lines), kAutoDensities[0], 0, 0.5, lines, options.auto_density_psnr);
       if (lined)
         if (const double lined_psnr = psnr(*lined); qualifies(*lined, lined_psnr))
           return sparsest_or(*lined, lined_psnr, lines);
     }
-    // The 3x base is decimated alongside the 2x remesh (decimation is single-threaded and would
-    // leave the second core idle); it is used only if the 2x remesh falls short.
-    std::future<DecimateResult> middle_base =
-        std::async(std::launch::async, [&] { return decimate_for(kAutoDensities[1], no_lines); });
     // A decimation that stopped at or above a denser target gives the same base (cow stops at
     // 193 vertices for all three).
     auto same_base_as_denser = [&](std::size_t base_vertices, double denser) {
-      return base_vertices >= automatic_remesh_base(mesh, options.levels, denser);
+      return base_vertices >= base_size(denser);
     };
     // The 2x, 3x and 4x remeshes made, in that order: each finished, with its PSNR, or given up
     // after its first placement, with the most it could reach. One is given up only where a
@@ -498,7 +525,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     };
     std::vector<Made> made;
     auto finish = [&](Made& m) {
-      m.remesh = by_decimation(m.density, 0.9, 0.9, no_lines);
+      m.remesh = remesh_base(auto_base(m.density, no_lines), m.density, 0.9, 0.9, no_lines);
       m.psnr = psnr(*m.remesh);
     };
     // The closest finished so far (-infinity if none): at most the closest made.
@@ -520,7 +547,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
         }
       return true;
     };
-    const DecimateResult sparse_base = decimated_for(kAutoDensities[0], no_lines);
+    const DecimateResult& sparse_base = auto_base(kAutoDensities[0], no_lines);
     std::size_t densest_base = sparse_base.base.vertex_count();
     {
       Made sparse{kAutoDensities[0], std::nullopt, 0};
@@ -534,7 +561,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     }
     if (!same_base_as_denser(densest_base, kAutoDensities[1])) {
       Made middle{kAutoDensities[1], std::nullopt, 0};
-      const DecimateResult base = decimated_for(middle.density, no_lines, &middle_base);
+      const DecimateResult& base = auto_base(middle.density, no_lines);
       densest_base = base.base.vertex_count();
       middle.remesh = remesh_base(base, middle.density, 0.5, 0.75, no_lines,
                                   give_up_below(densest_base, options.middle_density_psnr), &middle.psnr);
@@ -547,7 +574,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (!same_base_as_denser(densest_base, kAutoDensities[2])) {
       // Kept only if at least as close as the closest before it.
       Made dense{kAutoDensities[2], std::nullopt, 0};
-      const DecimateResult base = decimated_for(dense.density, no_lines);
+      const DecimateResult& base = auto_base(dense.density, no_lines);
       densest_base = base.base.vertex_count();
       dense.remesh = remesh_base(base, dense.density, 0.75, 0.9, no_lines, closest_finished(), &dense.psnr);
       if (dense.remesh) dense.psnr = psnr(*dense.remesh);
@@ -566,7 +593,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       if (same_base_as_denser(densest_base, density) || denser_psnr >= options.dense_density_psnr ||
           !all_made([&](double db) { return db < options.dense_density_psnr; }))
         break;
-      const DecimateResult base = decimated_for(density, no_lines);
+      const DecimateResult& base = auto_base(density, no_lines);
       densest_base = base.base.vertex_count();
       // Kept only if at least as close as the closest so far: given up where it cannot be.
       std::optional<RemeshResult> r = remesh_base(base, density, from, from + 0.05, no_lines,

@@ -331,6 +331,33 @@ TEST_CASE("decimate: bumpy icosphere to 200 vertices", "[decimate]") {
   REQUIRE(again.base.triangles == result.base.triangles);
 }
 
+TEST_CASE("decimate_each: one run gives every target's decimate() result, byte for byte", "[decimate]") {
+  const TriangleMesh input = icosphere(5, 0.1);  // 10242 vertices
+  // Unsorted, repeated, at the input's size and beyond, and below where a 12-vertex floor of
+  // tiny collapses would stop (the decimation stops first: the final mesh for both).
+  const std::vector<std::size_t> targets{500, 2000, 12000, 500, 10242, 3, 150, 4, 1000};
+  for (const double deviation : {60.0, 20.0}) {  // 20°: many collapses refused, the run stops early
+    DecimateOptions options;
+    options.max_normal_deviation_degrees = deviation;
+    const std::vector<DecimateResult> each = decimate_each(input, options, targets);
+    REQUIRE(each.size() == targets.size());
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+      DecimateOptions one = options;
+      one.target_vertices = targets[i];
+      const DecimateResult direct = decimate(input, one);
+      INFO("target " << targets[i] << ", deviation " << deviation);
+      CHECK(each[i].collapses == direct.collapses);
+      CHECK(each[i].original_vertex == direct.original_vertex);
+      CHECK(each[i].base.positions == direct.base.positions);
+      CHECK(each[i].base.triangles == direct.base.triangles);
+    }
+    CHECK(each[2].collapses == 0);  // 12,000 and 10,242: nothing to do
+    CHECK(each[4].collapses == 0);
+  }
+  CHECK_THROWS_AS(decimate_each(input, {}, std::vector<std::size_t>{100, 0}), std::invalid_argument);
+  CHECK(decimate_each(input, {}, std::vector<std::size_t>{}).empty());
+}
+
 TEST_CASE("decimate: automatic target from levels and topology", "[decimate]") {
   SECTION("sphere: ceil(V / 4^levels)") {
     const TriangleMesh input = icosphere(5, 0.1);

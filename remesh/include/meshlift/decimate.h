@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "meshlift/mesh.h"
@@ -74,6 +75,15 @@ struct DecimateResult {
 ///        manifold, consistently oriented triangle mesh with finite coordinates.
 /// \throw std::invalid_argument if an option is out of its range.
 DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options = {});
+
+/// decimate() with target_vertices = each of `targets` (> 0, in any order), one result per
+/// target in their order, from one run: the collapses towards a smaller target go on from those
+/// that made a larger one, exactly as decimate() would make them (the decimater takes its
+/// collapses in the same order whatever its target), so each result is decimate()'s, byte for
+/// byte, for the cost of one decimation to the smallest target. options.target_vertices is
+/// ignored. \throw as decimate(), and std::invalid_argument for a target of 0.
+std::vector<DecimateResult> decimate_each(const TriangleMesh& mesh, const DecimateOptions& options,
+                                          std::span<const std::size_t> targets);
 
 /// The automatic target of DecimateOptions::target_vertices for `mesh` and `levels`.
 /// \throw as decimate().
