@@ -137,11 +137,12 @@ struct RemeshResult {
   /// sheet: no orientation of a face there agrees with both, and the flip test cannot be met.
   std::size_t input_crossing_pairs = 0;
   std::size_t flipped_where_input_crosses = 0;
-  /// Wall-clock seconds per stage, in pipeline order ("decimate" (or "decimate (rest of the one
-  /// run alongside)"), "fit base", "guides", "place and compare", "least squares and untangle",
-  /// then "choose density" with the automatic density, whose remeshes each list their stages
-  /// ("place, then give up" instead of the last two for a candidate given up: give_up_margin);
-  /// "sphere" for a sphere remesh): where a remesh spends its time (docs/RESULTS.md).
+  /// Wall-clock seconds per stage, in pipeline order ("decimate", "fit base", "guides", "place
+  /// and compare", "least squares and untangle", then "choose density" with the automatic
+  /// density, whose remeshes each list their stages, "decimate" only where a decimation ran (one
+  /// for all its densities, with the feature lines and one without: decimate_each), and "place,
+  /// then give up" instead of the last two for a candidate given up (give_up_margin); "sphere"
+  /// for a sphere remesh): where a remesh spends its time (docs/RESULTS.md).
   std::vector<std::pair<std::string, double>> stage_seconds{};
 };
 
