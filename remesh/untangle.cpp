@@ -312,6 +312,59 @@ class InputChart {
   std::vector<std::array<double, 6>> face_uv_;  ///< per chart face: its corners' u, v
 };
 
+
+/// The third try at a patch (untangle()): where neither plane lift suits it, its Tutte map
+/// (`solver`, the patch's system) inside the input's own flattening around it (InputChart): the
+/// rim where the closest points of its vertices fall in the chart, the inner vertices then at
+/// the input points of their chart coordinates. The rim need not be convex in the chart, so this
+/// too may fold; the caller keeps it on the same condition as the others. The chart's radius
+/// along the surface is twice the patch's (its farthest vertex from `origin`), else smaller (a
+/// ball that takes in a thin part's whole section is a tube, not a disk), else larger (one that
+/// misses rim vertices' closest points). Returns the inner vertices' new positions (xyz, in
+/// `inner`'s order), or nullopt where no chart holds the patch. `hint`: as SurfaceQuery::closest.
+std::optional<std::vector<double>> lift_through_chart(InputChart& chart, const SurfaceQuery& surface,
+                                                      const Adjacency& adjacency, const std::vector<double>& x,
+                                                      std::span<const std::uint32_t> vertices,
+                                                      std::span<const std::uint32_t> inner,
+                                                      std::span<const std::uint32_t> local, const Vec& origin,
+                                                      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& solver,
+                                                      std::uint32_t& hint) {
+  double reach = 0;
+  for (const std::uint32_t v : vertices) {
+    const Vec d = sub(at(x, v), origin);
+    reach = std::max(reach, std::sqrt(dot(d, d)));
+  }
+  Eigen::MatrixXd rim = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 2);
+  bool inside = false;
+  const SurfacePoint middle = surface.closest(origin, hint);
+  for (const double scale : {2.0, 1.25, 3.0}) {
+    if (!chart.build(middle, scale * reach)) continue;
+    rim.setZero();
+    inside = true;
+    for (std::uint32_t i = 0; i < inner.size() && inside; ++i)
+      for (std::uint32_t k = adjacency.neighbour_offsets[inner[i]]; k < adjacency.neighbour_offsets[inner[i] + 1] && inside; ++k) {
+        const std::uint32_t w = adjacency.neighbours[k];
+        if (local[w] != kNone) continue;
+        const SurfacePoint on = surface.closest(at(x, w), hint);
+        hint = on.face;
+        double uv[2] = {0, 0};
+        inside = chart.to_chart(on.face, on.barycentric, uv);
+        rim(i, 0) += uv[0], rim(i, 1) += uv[1];
+      }
+    if (inside) break;
+  }
+  if (!inside) return std::nullopt;
+  const Eigen::MatrixXd charted = solver.solve(rim);
+  std::vector<double> placed(3 * inner.size());
+  for (std::uint32_t i = 0; i < inner.size(); ++i) {
+    const double uv[2] = {charted(i, 0), charted(i, 1)};
+    Vec p{0, 0, 0};
+    if (!chart.to_surface(uv, p)) return std::nullopt;
+    for (int c = 0; c < 3; ++c) placed[3 * i + c] = p[c];
+  }
+  return placed;
+}
+
 }  // namespace
 
 UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options) {
@@ -492,54 +545,16 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           for (std::uint32_t i = 0; i < inner.size(); ++i)
             for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
           for (int lift = 0; lift < 3 && !kept; ++lift) {
-            if (lift == 2) {
-              // Third try: the patch's Tutte map inside the input's own flattening around it
-              // (InputChart), its rim where the closest points of its vertices fall, the inner
-              // vertices then at the input points of their chart coordinates. The rim need not
-              // be convex in the chart, so this too may fold; it is kept on the same condition.
+            if (lift == 2) {  // third try: inside the input's own flattening (lift_through_chart)
               if (!input_adjacency) {
                 input_adjacency.emplace(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
                 chart.emplace(input, *input_adjacency);
               }
-              double reach = 0;
-              for (const std::uint32_t v : vertices) {
-                const Vec d = sub(at(x, v), origin);
-                reach = std::max(reach, std::sqrt(dot(d, d)));
-              }
-              // The chart's radius along the surface: twice the patch's, else smaller (a ball that
-              // takes in a thin part's whole section is a tube, not a disk), else larger (one
-              // that misses rim vertices' closest points).
-              Eigen::MatrixXd rim = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(inner.size()), 2);
-              bool inside = false;
-              const SurfacePoint middle = surface.closest(origin, hint);
-              for (const double scale : {2.0, 1.25, 3.0}) {
-                if (!chart->build(middle, scale * reach)) continue;
-                rim.setZero();
-                inside = true;
-                for (std::uint32_t i = 0; i < inner.size() && inside; ++i)
-                  for (std::uint32_t k = adjacency.neighbour_offsets[inner[i]]; k < adjacency.neighbour_offsets[inner[i] + 1] && inside; ++k) {
-                    const std::uint32_t w = adjacency.neighbours[k];
-                    if (local[w] != kNone) continue;
-                    const SurfacePoint on = surface.closest(at(x, w), hint);
-                    hint = on.face;
-                    double uv[2] = {0, 0};
-                    inside = chart->to_chart(on.face, on.barycentric, uv);
-                    rim(i, 0) += uv[0], rim(i, 1) += uv[1];
-                  }
-                if (inside) break;
-              }
-              if (!inside) break;
-              const Eigen::MatrixXd charted = solver->solve(rim);
-              std::vector<double> placed(3 * inner.size());
-              for (std::uint32_t i = 0; i < inner.size() && inside; ++i) {
-                const double uv[2] = {charted(i, 0), charted(i, 1)};
-                Vec p{0, 0, 0};
-                inside = chart->to_surface(uv, p);
-                for (int c = 0; c < 3; ++c) placed[3 * i + c] = p[c];
-              }
-              if (!inside) break;
+              const std::optional<std::vector<double>> placed =
+                  lift_through_chart(*chart, surface, adjacency, x, vertices, inner, local, origin, *solver, hint);
+              if (!placed) break;
               for (std::uint32_t i = 0; i < inner.size(); ++i)
-                for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = placed[3 * i + c];
+                for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = (*placed)[3 * i + c];
             } else {
               for (std::uint32_t i = 0; i < inner.size(); ++i) {
                 const std::uint32_t v = inner[i];
