@@ -65,11 +65,16 @@ class StageClock {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-/// PSNR of a remesh against the input on 200,000 samples a side (±0.01 dB, METRIC.md): what the
-/// automatic choices compare.
-double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed) {
+/// Samples a side of the PSNR the automatic choices compare (±0.01 dB, METRIC.md) ...
+constexpr std::size_t kChoiceSamples = 200'000;
+/// ... and of the quick one that tells a first placement far from the input (a tenth of the
+/// cost, about ±0.03 dB, against RemeshOptions::give_up_margin).
+constexpr std::size_t kQuickSamples = 20'000;
+
+/// PSNR of a remesh against the input on `samples` area samples a side.
+double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, std::size_t samples = kChoiceSamples) {
   MetricOptions metric;
-  metric.samples = 200'000;
+  metric.samples = samples;
   return surface_distance(input, remeshed.finest(), metric).psnr_db();
 }
 
@@ -95,15 +100,6 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 
 /// remesh_by_decimation's abandon_below for a remesh that is never given up.
 constexpr double kNever = -std::numeric_limits<double>::infinity();
-
-/// A quick PSNR of a remesh against the input, on 20,000 samples a side (a tenth of
-/// remesh_psnr's): enough to tell a placement far from the input (about ±0.03 dB, METRIC.md, against
-/// RemeshOptions::give_up_margin).
-double rough_remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed) {
-  MetricOptions metric;
-  metric.samples = 20'000;
-  return surface_distance(input, remeshed.finest(), metric).psnr_db();
-}
 
 /// From the decimated base: fit the base, build the guide, place the refinement on the surface
 /// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
@@ -260,7 +256,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   place_each_guide(true);
   Placed placed = best_of(candidates);
   if (abandon_below > kNever) {
-    const double bound = rough_remesh_psnr(mesh, *placed.mesh) + give_up_margin;
+    const double bound = remesh_psnr(mesh, *placed.mesh, kQuickSamples) + give_up_margin;
     if (bound < abandon_below) {
       clock.lap("place, then give up");
       if (psnr_bound) *psnr_bound = bound;
@@ -391,13 +387,11 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (!decimator_floor) decimator_floor = automatic_base_vertices(mesh, options.levels);
     return base_for_density(mesh.vertex_count(), options.levels, density, *decimator_floor);
   };
-  auto decimate_for = [&](double density, const FeatureLines& with) {
+  auto decimate_options = [&](const FeatureLines& with) {
     DecimateOptions decimate_options;
     decimate_options.feature_lines = &with;
     decimate_options.levels = options.levels;
-    decimate_options.target_vertices =
-        options.base_vertices != 0 ? options.base_vertices : base_size(density);
-    return decimate(mesh, decimate_options);
+    return decimate_options;
   };
   std::vector<std::pair<std::string, double>> stages;  // of every decimation remesh made
   // The automatic density's bases, with and without the feature lines: each set from one
@@ -412,12 +406,9 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     std::optional<std::vector<DecimateResult>>& bases = auto_bases[&with == &lines];
     if (!bases) {
       StageClock clock(stages);
-      DecimateOptions decimate_options;
-      decimate_options.feature_lines = &with;
-      decimate_options.levels = options.levels;
       std::vector<std::size_t> targets;
       for (const double d : auto_densities) targets.push_back(base_size(d));
-      bases = decimate_each(mesh, decimate_options, targets);
+      bases = decimate_each(mesh, decimate_options(with), targets);
       clock.lap("decimate");
     }
     const auto at = std::find(auto_densities.begin(), auto_densities.end(), density);
@@ -435,11 +426,13 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   auto by_decimation = [&](double density, double from, double to, const FeatureLines& with) {
     StageClock clock(stages);
-    const DecimateResult decimated = decimate_for(density, with);
+    DecimateOptions one = decimate_options(with);
+    one.target_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(density);
+    const DecimateResult decimated = decimate(mesh, one);
     clock.lap("decimate");
     return std::move(*remesh_base(decimated, density, from, to, with));
   };
-  // Errors measured on 200,000 samples a side (±0.01 dB, METRIC.md).
+  // Errors measured on kChoiceSamples a side.
   auto psnr = [&](const RemeshResult& r) {
     StageClock clock(stages);
     const double db = remesh_psnr(mesh, r.mesh);
@@ -454,7 +447,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   RemeshResult result = [&] {
     if (options.base_vertices != 0 || options.density != 0) {
-      // decimate_for() takes base_vertices first. With feature lines, the remesh with them and
+      // by_decimation() takes base_vertices first. With feature lines, the remesh with them and
       // the one without: the one that folds nowhere (but at the input's crossings), else the
       // closer (turbine at 4x: 80.1 dB with its lines, 81.9 without; at 16x 78.7 dB and 7
       // folds with them, 86.0 and 10 without; fandisk at 4x 85.1 with, 77.7 without).
