@@ -357,7 +357,8 @@ class Snapshots : public OpenMesh::Decimater::Observer {
   std::vector<DecimateResult> taken_;
 };
 
-/// decimate() to each of `targets` (0: the automatic target), in one run.
+/// decimate() to each of `targets` (0: the automatic target, whose components keep their
+/// topological floor), in one run; options.target_vertices is not read.
 std::vector<DecimateResult> decimate_to_targets(const TriangleMesh& mesh, const DecimateOptions& options,
                                                 std::span<const std::size_t> targets) {
   check_options(options);
@@ -389,7 +390,7 @@ std::vector<DecimateResult> decimate_to_targets(const TriangleMesh& mesh, const 
   half_edge.request_vertex_status();
   half_edge.request_face_status();
 
-  const bool automatic = options.target_vertices == 0;
+  const bool automatic = std::find(targets.begin(), targets.end(), std::size_t{0}) != targets.end();
   std::vector<std::size_t> floor(components.vertices.size());
   for (std::size_t c = 0; c < floor.size(); ++c)
     floor[c] = automatic ? components.topological_floor[c] : std::min<std::size_t>(components.vertices[c], 4);
@@ -452,9 +453,7 @@ std::vector<DecimateResult> decimate_each(const TriangleMesh& mesh, const Decima
                                           std::span<const std::size_t> targets) {
   for (const std::size_t target : targets)
     if (target == 0) throw std::invalid_argument("decimate_each: targets must be > 0");
-  DecimateOptions explicit_targets = options;
-  explicit_targets.target_vertices = targets.empty() ? 1 : targets.front();
-  return decimate_to_targets(mesh, explicit_targets, targets);
+  return decimate_to_targets(mesh, options, targets);
 }
 
 }  // namespace meshlift
