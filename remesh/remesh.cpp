@@ -98,8 +98,10 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
   return mesh;
 }
 
-/// remesh_by_decimation's abandon_below for a remesh that is never given up.
+/// remesh_by_decimation's abandon_below for a remesh that is never given up ...
 constexpr double kNever = -std::numeric_limits<double>::infinity();
+/// ... and its set_aside_at for one that is never set aside.
+constexpr double kNowhere = std::numeric_limits<double>::infinity();
 
 /// From the decimated base: fit the base, build the guide, place the refinement on the surface
 /// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
@@ -108,12 +110,14 @@ constexpr double kNever = -std::numeric_limits<double>::infinity();
 /// A candidate of the automatic density that could only be kept at `abandon_below` dB or more
 /// is given up after its first placement (nullopt) when that placement is so far from the input
 /// that the rest could not bring it there: its PSNR plus `give_up_margin` is below `abandon_below`
-/// (RemeshOptions::give_up_margin); `*psnr_bound`, if given, then receives that sum. kNever:
-/// never given up.
+/// (RemeshOptions::give_up_margin). One is set aside after it instead (nullopt) when that
+/// placement is `set_aside_at` dB or closer: the automatic density then tries sparser bases
+/// first (RemeshOptions::sparsest_density_psnr). `*placed_psnr`, if given, receives the placement's
+/// PSNR (kQuickSamples a side) when it stops there. kNever, kNowhere: never.
 std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface,
                                                  const DecimateResult& decimated, const FeatureLines& lines, int levels,
                                                  BaseFit fit, int least_squares_rounds, double abandon_below,
-                                                 double give_up_margin, double* psnr_bound,
+                                                 double set_aside_at, double give_up_margin, double* placed_psnr,
                                                  const std::function<void(double)>& report,
                                                  std::vector<std::pair<std::string, double>>& stages) {
   StageClock clock(stages);
@@ -255,11 +259,12 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
 
   place_each_guide(true);
   Placed placed = best_of(candidates);
-  if (abandon_below > kNever) {
-    const double bound = remesh_psnr(mesh, *placed.mesh, kQuickSamples) + give_up_margin;
-    if (bound < abandon_below) {
-      clock.lap("place, then give up");
-      if (psnr_bound) *psnr_bound = bound;
+  if (abandon_below > kNever || set_aside_at < kNowhere) {
+    const double placed_db = remesh_psnr(mesh, *placed.mesh, kQuickSamples);
+    const bool set_aside = placed_db >= set_aside_at;
+    if (set_aside || placed_db + give_up_margin < abandon_below) {
+      clock.lap(set_aside ? "place, then set aside" : "place, then give up");
+      if (placed_psnr) *placed_psnr = placed_db;
       return std::nullopt;
     }
   }
@@ -414,13 +419,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     const auto at = std::find(auto_densities.begin(), auto_densities.end(), density);
     return (*bases)[static_cast<std::size_t>(at - auto_densities.begin())];
   };
-  // The remesh of a decimated base, or nullopt if given up below `abandon_below` dB, with
-  // `*psnr_bound` the most it could have reached (remesh_by_decimation).
+  // The remesh of a decimated base, or nullopt if given up below `abandon_below` dB or set aside
+  // at `set_aside_at`, with `*placed_psnr` its first placement's PSNR (remesh_by_decimation).
   auto remesh_base = [&](const DecimateResult& decimated, double density, double from, double to,
-                         const FeatureLines& with, double abandon_below = kNever, double* psnr_bound = nullptr) {
+                         const FeatureLines& with, double abandon_below = kNever, double* placed_psnr = nullptr,
+                         double set_aside_at = kNowhere) {
     std::optional<RemeshResult> r = remesh_by_decimation(
         mesh, surface, decimated, with, options.levels, options.fit, options.least_squares_rounds, abandon_below,
-        options.give_up_margin, psnr_bound, [&](double f) { report(from + (to - from) * f); }, stages);
+        set_aside_at, options.give_up_margin, placed_psnr, [&](double f) { report(from + (to - from) * f); }, stages);
     if (r) r->density = options.base_vertices != 0 ? 0 : density;
     return r;
   };
@@ -466,36 +472,50 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // where that shows it cannot (remesh_by_decimation): mannequin-devil's 2x remeshes (55.6 dB
     // as first placed, 60.4 finished; 75 needed) cost a placement each instead of a remesh.
     // Same choices as finishing every candidate (docs/RESULTS.md).
-    //
-    // A qualifying 2x remesh far within the threshold (a smooth mesh): sparser still, step by
-    // step, while the last one kept is that far within and the next qualifies (bear_bis: 84.6 dB
-    // at 2x, 83.1 at 1.5x, 80.8 at 1x; BD-rate against Draco -76.8 -> -80.5 % at 1.5x, -82.9 ->
-    // -85.1 % at 1x on a finer grid; docs/RESULTS.md).
-    auto sparsest_or = [&](RemeshResult& sparse, double sparse_psnr, const FeatureLines& with) {
-      RemeshResult kept = std::move(sparse);
-      double kept_psnr = sparse_psnr;
-      double from = 0.5;
-      for (const double density : kSparserAutoDensities) {
-        if (kept_psnr < options.sparsest_density_psnr) break;
-        std::optional<RemeshResult> sparser =
-            remesh_base(auto_base(density, with), density, from, from + 0.25, with, options.auto_density_psnr);
-        from += 0.25;
-        if (!sparser) break;
-        const double db = psnr(*sparser);
-        if (!qualifies(*sparser, db)) break;
-        kept = std::move(*sparser), kept_psnr = db;
-      }
-      return kept;
+    struct Made {
+      double density = 0;
+      std::optional<RemeshResult> remesh;
+      double psnr = 0;  // finished: its PSNR; given up: the most it could have reached; set
+                        // aside: its placement's
     };
-    // Feature lines first, where there are any: kept if their 2x remesh qualifies; else the
-    // remesh goes on without them (they can cost a thin part or fold at a crossing:
-    // mannequin-devil 68.8 dB at 4x with them, 76.3 without; docs/RESULTS.md).
+    // Makes m's remesh with `with`, given up below `abandon_below` dB (and set aside at
+    // `set_aside_at`: m.psnr is then its placement's PSNR).
+    auto make = [&](Made& m, double from, double to, const FeatureLines& with, double abandon_below,
+                    double set_aside_at = kNowhere) {
+      double placed = 0;
+      m.remesh = remesh_base(auto_base(m.density, with), m.density, from, to, with, abandon_below, &placed, set_aside_at);
+      m.psnr = m.remesh ? psnr(*m.remesh) : placed >= set_aside_at ? placed : placed + options.give_up_margin;
+    };
+    // The 2x remesh (`sparse`), or a sparser one: where the 2x remesh is first placed
+    // sparsest_density_psnr or closer to the input (a smooth mesh, or a CAD mesh along its
+    // feature lines), it is set aside and the kSparserAutoDensities come first, in turn, the
+    // first that qualifies kept (each given up where its placement shows it cannot: the next
+    // is made anyway); the 2x one is finished only if none does. Measured (docs/RESULTS.md):
+    // bear_bis 84.6 dB at 2x, 83.1 at 1.5x, 80.7 at 1x, BD-rate against Draco -76.8 -> -80.5 %
+    // at 1.5x, -82.9 -> -85.1 % at 1x; a 104,002-vertex armadillo (placed 2x at 88.6 dB, 1x
+    // 87.0 finished) takes 1x in 9.6-10.9 s instead of finishing 2x, 1.5x and 1x in 19-20 s.
+    auto sparse_or_sparser = [&](Made& sparse, double from, double to, const FeatureLines& with,
+                                 double abandon_below) -> std::optional<RemeshResult> {
+      make(sparse, from, from + 0.5 * (to - from), with, abandon_below, options.sparsest_density_psnr);
+      if (!sparse.remesh && sparse.psnr >= options.sparsest_density_psnr) {
+        double at = from + 0.5 * (to - from);
+        for (const double density : kSparserAutoDensities) {
+          Made sparser{density, std::nullopt, 0};
+          make(sparser, at, at + 0.25 * (to - from), with, options.auto_density_psnr);
+          at += 0.25 * (to - from);
+          if (sparser.remesh && qualifies(*sparser.remesh, sparser.psnr)) return std::move(sparser.remesh);
+        }
+        make(sparse, to, to, with, abandon_below);
+      }
+      if (sparse.remesh && qualifies(*sparse.remesh, sparse.psnr)) return std::move(sparse.remesh);
+      return std::nullopt;
+    };
+    // Feature lines first, where there are any: kept if their 2x remesh (or a sparser one)
+    // qualifies; else the remesh goes on without them (they can cost a thin part or fold at a
+    // crossing: mannequin-devil 68.8 dB at 4x with them, 76.3 without; docs/RESULTS.md).
     if (!lines.empty()) {
-      std::optional<RemeshResult> lined =
-          remesh_base(auto_base(kAutoDensities[0], lines), kAutoDensities[0], 0, 0.5, lines, options.auto_density_psnr);
-      if (lined)
-        if (const double lined_psnr = psnr(*lined); qualifies(*lined, lined_psnr))
-          return sparsest_or(*lined, lined_psnr, lines);
+      Made lined{kAutoDensities[0], std::nullopt, 0};
+      if (std::optional<RemeshResult> r = sparse_or_sparser(lined, 0, 0.5, lines, options.auto_density_psnr)) return std::move(*r);
     }
     // A decimation that stopped at or above a denser target gives the same base (cow stops at
     // 193 vertices for all three).
@@ -511,16 +531,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       if (!same_base_as_denser(base_vertices, kDenserAutoDensities[0])) return std::min(keep, options.dense_density_psnr);
       return kNever;
     };
-    struct Made {
-      double density = 0;
-      std::optional<RemeshResult> remesh;
-      double psnr = 0;
-    };
     std::vector<Made> made;
-    auto finish = [&](Made& m) {
-      m.remesh = remesh_base(auto_base(m.density, no_lines), m.density, 0.9, 0.9, no_lines);
-      m.psnr = psnr(*m.remesh);
-    };
+    auto finish = [&](Made& m) { make(m, 0.9, 0.9, no_lines, kNever); };
     // The closest finished so far (-infinity if none): at most the closest made.
     auto closest_finished = [&] {
       double db = kNever;
@@ -540,37 +552,27 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
         }
       return true;
     };
-    const DecimateResult& sparse_base = auto_base(kAutoDensities[0], no_lines);
-    std::size_t densest_base = sparse_base.base.vertex_count();
+    std::size_t densest_base = auto_base(kAutoDensities[0], no_lines).base.vertex_count();
     {
       Made sparse{kAutoDensities[0], std::nullopt, 0};
-      sparse.remesh = remesh_base(sparse_base, sparse.density, 0, 0.5, no_lines,
-                                  give_up_below(densest_base, options.auto_density_psnr), &sparse.psnr);
-      if (sparse.remesh) {
-        sparse.psnr = psnr(*sparse.remesh);
-        if (qualifies(*sparse.remesh, sparse.psnr)) return sparsest_or(*sparse.remesh, sparse.psnr, no_lines);
-      }
+      if (std::optional<RemeshResult> r =
+              sparse_or_sparser(sparse, 0, 0.5, no_lines, give_up_below(densest_base, options.auto_density_psnr)))
+        return std::move(*r);
       made.push_back(std::move(sparse));
     }
     if (!same_base_as_denser(densest_base, kAutoDensities[1])) {
       Made middle{kAutoDensities[1], std::nullopt, 0};
-      const DecimateResult& base = auto_base(middle.density, no_lines);
-      densest_base = base.base.vertex_count();
-      middle.remesh = remesh_base(base, middle.density, 0.5, 0.75, no_lines,
-                                  give_up_below(densest_base, options.middle_density_psnr), &middle.psnr);
-      if (middle.remesh) {
-        middle.psnr = psnr(*middle.remesh);
-        if (middle.psnr >= options.middle_density_psnr && fold_free(*middle.remesh)) return std::move(*middle.remesh);
-      }
+      densest_base = auto_base(middle.density, no_lines).base.vertex_count();
+      make(middle, 0.5, 0.75, no_lines, give_up_below(densest_base, options.middle_density_psnr));
+      if (middle.remesh && middle.psnr >= options.middle_density_psnr && fold_free(*middle.remesh))
+        return std::move(*middle.remesh);
       made.push_back(std::move(middle));
     }
     if (!same_base_as_denser(densest_base, kAutoDensities[2])) {
       // Kept only if at least as close as the closest before it.
       Made dense{kAutoDensities[2], std::nullopt, 0};
-      const DecimateResult& base = auto_base(dense.density, no_lines);
-      densest_base = base.base.vertex_count();
-      dense.remesh = remesh_base(base, dense.density, 0.75, 0.9, no_lines, closest_finished(), &dense.psnr);
-      if (dense.remesh) dense.psnr = psnr(*dense.remesh);
+      densest_base = auto_base(dense.density, no_lines).base.vertex_count();
+      make(dense, 0.75, 0.9, no_lines, closest_finished());
       made.push_back(std::move(dense));
     }
     // Still short of the top of the 55-75 dB range that the codec's files are measured over (a

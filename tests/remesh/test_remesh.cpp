@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -20,6 +21,11 @@ TriangleMesh wavy_sheet(int n) {
   for (std::size_t v = 0; v < m.vertex_count(); ++v)
     m.positions[3 * v + 2] = 0.1 * std::sin(4 * m.positions[3 * v]) * std::cos(3 * m.positions[3 * v + 1]);
   return m;
+}
+
+/// How many times a remesh went through a stage (RemeshResult::stage_seconds).
+std::ptrdiff_t count(const RemeshResult& r, const std::string& stage) {
+  return std::count_if(r.stage_seconds.begin(), r.stage_seconds.end(), [&](const auto& s) { return s.first == stage; });
 }
 
 }  // namespace
@@ -183,14 +189,23 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   const RemeshResult sparse = remesh(input, options);
   CHECK(sparse.density == 2);
   CHECK(surface_distance(input, sparse.mesh.finest(), metric).psnr_db() >= 60);
-  // Far within the threshold: sparser still, 1.5x then 1x, while the one kept is that far within
-  // and the next is within the threshold.
+  CHECK(sparse.mesh.positions == [&] {
+    RemeshOptions two = options;
+    two.density = 2;
+    return remesh(input, two).mesh.positions;
+  }());
+  CHECK(count(sparse, "place, then set aside") == 0);
+  // Far within the threshold as first placed: the 2x remesh is set aside, and the sparser
+  // densities come first, 1x then 1.5x, the first within the threshold kept; the 2x one is not
+  // finished.
   options.sparsest_density_psnr = 60;
   const RemeshResult sparsest = remesh(input, options);
   const double sparsest_db = surface_distance(input, sparsest.mesh.finest(), metric).psnr_db();
   CHECK(sparsest.density == 1);
   CHECK(sparsest_db >= 60);
   CHECK(sparsest.mesh.hierarchy.vertex_count(0) < sparse.mesh.hierarchy.vertex_count(0));
+  CHECK(count(sparsest, "place, then set aside") == 1);
+  CHECK(count(sparsest, "least squares and untangle") == 1);
   // 1x not within the threshold: 1.5x.
   options.auto_density_psnr = sparsest_db + 0.5;
   const RemeshResult sparser = remesh(input, options);
@@ -199,14 +214,13 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   CHECK(sparser_db >= sparsest_db + 0.5);
   CHECK(sparser.mesh.hierarchy.vertex_count(0) < sparse.mesh.hierarchy.vertex_count(0));
   CHECK(sparser.mesh.hierarchy.vertex_count(0) > sparsest.mesh.hierarchy.vertex_count(0));
-  // 1.5x within but not far within: no further step.
-  options.auto_density_psnr = 60;
-  options.sparsest_density_psnr = sparser_db + 0.5;
-  CHECK(remesh(input, options).density == 1.5);
-  // 1.5x not within either: 2x.
-  options.sparsest_density_psnr = 60;
+  // 1.5x not within either: the 2x one set aside is finished after all, the same remesh.
   options.auto_density_psnr = sparser_db + 0.5;
-  CHECK(remesh(input, options).density == 2);
+  const RemeshResult set_aside = remesh(input, options);
+  CHECK(set_aside.density == 2);
+  CHECK(count(set_aside, "place, then set aside") == 1);
+  CHECK(set_aside.mesh.positions == sparse.mesh.positions);
+  options.sparsest_density_psnr = 500;
   // A threshold no 2x remesh reaches: the 3x one when it reaches its own (identical to asking
   // for density 3), else the 4x one (identical to asking for density 4) when it is the closest
   // and reaches dense_density_psnr, else the denser ones in turn while the one kept is short of
@@ -256,14 +270,12 @@ TEST_CASE("The automatic density gives up a candidate that cannot qualify after 
   RemeshOptions options;
   options.levels = 2;
   options.recognize = false;
-  auto count = [](const RemeshResult& r, const std::string& stage) {
-    return std::count_if(r.stage_seconds.begin(), r.stage_seconds.end(), [&](const auto& s) { return s.first == stage; });
-  };
   // Thresholds no 2x or 3x remesh reaches: both are given up after their first placement, the
   // 4x one is finished and kept, as when nothing is given up. (On this smooth sphere the
   // finished 4x remesh is not 10 dB closer than the 2x one as first placed, so with the
   // default margin the given-up ones would be finished after all, as below: with a margin of
-  // 0 they stay given up.)
+  // 0 they stay given up.) No 2x placement is set aside for sparser ones here.
+  options.sparsest_density_psnr = std::numeric_limits<double>::infinity();
   options.give_up_margin = 0;
   options.auto_density_psnr = 500;
   options.middle_density_psnr = 500;
