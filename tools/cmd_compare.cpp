@@ -23,18 +23,6 @@ struct CompareOptions {
   bool json = false;
 };
 
-/// Polygons become triangle fans (corner 0, i, i+1); triangles stay as they are.
-TriangleMesh fan_triangulated(const PolygonMesh& mesh) {
-  TriangleMesh result;
-  result.positions = mesh.positions;
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const std::uint32_t* corners = mesh.face_indices.data() + mesh.face_offsets[f];
-    for (std::size_t i = 1; i + 1 < mesh.face_size(f); ++i)
-      result.triangles.insert(result.triangles.end(), {corners[0], corners[i], corners[i + 1]});
-  }
-  return result;
-}
-
 /// JSON has no infinity: an infinite PSNR (identical surfaces) is written as null.
 std::string json_number(double x) {
   if (!std::isfinite(x)) return "null";
@@ -56,8 +44,8 @@ int run_compare(const CompareOptions& options) {
   if (!reference) return kBadInput;
   const std::optional<PolygonMesh> test = load_mesh(options.test);
   if (!test) return kBadInput;
-  const TriangleMesh reference_triangles = fan_triangulated(*reference);
-  const TriangleMesh test_triangles = fan_triangulated(*test);
+  const TriangleMesh reference_triangles = triangles_of(options.reference, *reference);
+  const TriangleMesh test_triangles = triangles_of(options.test, *test);
   if (reference_triangles.face_count() == 0) {
     std::cerr << "meshlift: " << options.reference << ": the mesh has no faces: nothing to compare\n";
     return kBadInput;

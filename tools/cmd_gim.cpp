@@ -63,11 +63,7 @@ int run_gim(const GimCommandOptions& options) {
   if (!check_distinct_output(options.input, options.output)) return kOutputError;
   const std::optional<PolygonMesh> loaded = load_mesh(options.input);
   if (!loaded) return kBadInput;
-  if (!loaded->is_triangle_mesh()) {
-    std::cerr << "meshlift: " << options.input << ": the sphere remesher needs a triangle mesh\n";
-    return kBadInput;
-  }
-  const TriangleMesh mesh = to_triangle_mesh(*loaded);
+  const TriangleMesh mesh = triangles_of(options.input, *loaded);
   SphereRemesh remesh{refine_linear(octahedron(), 0), {}};
   const auto start = std::chrono::steady_clock::now();
   try {

@@ -27,13 +27,14 @@ int run_remesh(const RemeshArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
   const std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
+  const TriangleMesh input = triangles_of(a.input, *loaded);
   const auto t0 = std::chrono::steady_clock::now();
-  std::optional<RemeshResult> result = remesh_for_cli(a.input, *loaded, a.remesh);
+  std::optional<RemeshResult> result = remesh_for_cli(a.input, input, a.remesh);
   if (!result) return kBadInput;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const TriangleMesh out = result->mesh.finest();
   if (!save_mesh(a.output, out, a.binary)) return kOutputError;
-  print_remesh_summary(a.input, *loaded, *result, seconds);
+  print_remesh_summary(a.input, input, *result, seconds);
   return kOk;
 }
 

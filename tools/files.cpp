@@ -9,6 +9,7 @@
 #include <random>
 
 #include "meshlift/mesh_io.h"
+#include "meshlift/triangulate.h"
 
 namespace meshlift::cli {
 
@@ -66,6 +67,16 @@ std::optional<PolygonMesh> load_mesh(const std::string& path) {
     std::cerr << "meshlift: " << e.what() << "\n";  // what() starts with the path
     return std::nullopt;
   }
+}
+
+TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh) {
+  if (mesh.is_triangle_mesh()) return to_triangle_mesh(mesh);
+  Triangulation t = triangulate(mesh);
+  std::cerr << "meshlift: " << path << ": " << t.quads << " quads and " << t.polygons
+            << " larger polygons split into " << t.split_triangles << " triangles";
+  if (t.fans > 0) std::cerr << " (" << t.fans << " of them with no ear to clip, self-intersecting or flat: split as fans)";
+  std::cerr << "\n";
+  return std::move(t.mesh);
 }
 
 namespace {

@@ -66,22 +66,20 @@ RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
   return o;
 }
 
-std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
+std::optional<RemeshResult> remesh_for_cli(const std::string& path, const TriangleMesh& input,
                                            const RemeshCliOptions& options) {
   RemeshOptions o = to_remesh_options(options);
   ProgressBar bar("remeshing");
   o.progress = [&bar](double f) { bar.update(f); };
   try {
-    if (!input.is_triangle_mesh())
-      throw MeshError("not a triangle mesh: the remesher takes triangles (triangulate the polygons first)");
-    return remesh(to_triangle_mesh(input), o);
+    return remesh(input, o);
   } catch (const MeshError& e) {
     std::cerr << "meshlift: " << path << ": " << e.what() << "\n";
     return std::nullopt;
   }
 }
 
-void print_remesh_summary(const std::string& path, const PolygonMesh& input, const RemeshResult& result,
+void print_remesh_summary(const std::string& path, const TriangleMesh& input, const RemeshResult& result,
                           double seconds) {
   const SemiRegularHierarchy& h = result.mesh.hierarchy;
   const double out = h.vertex_count(h.levels()), in = static_cast<double>(input.vertex_count());
@@ -110,7 +108,7 @@ void print_remesh_summary(const std::string& path, const PolygonMesh& input, con
                  : ("; " + std::to_string(result.flipped_where_input_crosses) +
                     " of the flipped triangles are there, where no orientation faces both sheets")
                        .c_str());
-  const SurfaceDistance d = surface_distance(to_triangle_mesh(input), result.mesh.finest());
+  const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
                path.c_str(), d.psnr_db(), d.rms_relative(), d.hausdorff_relative());
 }

@@ -26,13 +26,13 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
 /// The library options the command-line ones stand for (no progress callback).
 RemeshOptions to_remesh_options(const RemeshCliOptions& options);
 
-/// Remeshes `input` (read from `path`) with a progress bar; on failure prints
-/// `meshlift: PATH: problem` and returns nullopt.
-std::optional<RemeshResult> remesh_for_cli(const std::string& path, const PolygonMesh& input,
+/// Remeshes `input` (read from `path`, triangulated by triangles_of()) with a progress bar; on
+/// failure prints `meshlift: PATH: problem` and returns nullopt.
+std::optional<RemeshResult> remesh_for_cli(const std::string& path, const TriangleMesh& input,
                                            const RemeshCliOptions& options);
 
 /// Prints what the remesh did: vertex counts, levels, fold-overs, time (one line each).
-void print_remesh_summary(const std::string& path, const PolygonMesh& input, const RemeshResult& result,
+void print_remesh_summary(const std::string& path, const TriangleMesh& input, const RemeshResult& result,
                           double seconds);
 
 }  // namespace meshlift::cli

@@ -14,10 +14,11 @@ namespace {
 
 using meshlift::test::run_cli;
 
-/// A UV sphere with bumps (no subdivision connectivity: poles of valence `sides`), as OFF.
-fs::path write_bumpy_sphere(const fs::path& path, int rings = 24, int sides = 32) {
+/// A UV sphere with bumps (no subdivision connectivity: poles of valence `sides`), as OFF; with
+/// `quads`, the bands between rings are quads.
+fs::path write_bumpy_sphere(const fs::path& path, int rings = 24, int sides = 32, bool quads = false) {
   std::ofstream f(path);
-  const int vertices = 2 + (rings - 1) * sides, faces = 2 * sides * (rings - 1);
+  const int vertices = 2 + (rings - 1) * sides, faces = (quads ? sides * rings : 2 * sides * (rings - 1));
   f << "OFF\n" << vertices << " " << faces << " 0\n";
   auto point = [&](double theta, double phi) {
     const double r = 1 + 0.1 * std::sin(3 * theta) * std::cos(2 * phi);
@@ -32,6 +33,10 @@ fs::path write_bumpy_sphere(const fs::path& path, int rings = 24, int sides = 32
   for (int j = 0; j < sides; ++j) f << "3 0 " << ring(1, j) << " " << ring(1, j + 1) << "\n";
   for (int i = 1; i + 1 < rings; ++i)
     for (int j = 0; j < sides; ++j) {
+      if (quads) {
+        f << "4 " << ring(i, j) << " " << ring(i + 1, j) << " " << ring(i + 1, j + 1) << " " << ring(i, j + 1) << "\n";
+        continue;
+      }
       f << "3 " << ring(i, j) << " " << ring(i + 1, j) << " " << ring(i + 1, j + 1) << "\n";
       f << "3 " << ring(i, j) << " " << ring(i + 1, j + 1) << " " << ring(i, j + 1) << "\n";
     }
@@ -96,6 +101,25 @@ TEST_CASE("encode remeshes a mesh without subdivision connectivity and refuses b
   CHECK_THAT(refused.output, Catch::Contains("not closed"));
   CHECK_THAT(refused.output, Catch::Contains("decimate"));
   CHECK_FALSE(fs::exists(dir / "x.ply"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("remesh and encode split a quad mesh's faces into triangles first, and say so", "[cli][remesh]") {
+  const fs::path dir = meshlift::test::cli_scratch("remesh_cli_quads");
+  const fs::path in = write_bumpy_sphere(dir / "quads.off", 24, 32, true);
+  const auto remeshed = run_cli("remesh " + in.string() + " -o " + (dir / "r.ply").string());
+  INFO(remeshed.output);
+  REQUIRE(remeshed.exit_code == 0);
+  // 22 bands of 32 quads between the polar caps' triangles.
+  CHECK_THAT(remeshed.output, Catch::Contains("704 quads and 0 larger polygons split into 1408 triangles"));
+  CHECK(psnr_in(remeshed.output.substr(remeshed.output.find("remesh error"))) > 60);
+  const std::string mlz = (dir / "q.mlz").string(), decoded = (dir / "q.ply").string();
+  REQUIRE(run_cli("encode " + in.string() + " -o " + mlz + " --bpv 8").exit_code == 0);
+  REQUIRE(run_cli("decode " + mlz + " -o " + decoded).exit_code == 0);
+  const auto compared = run_cli("compare " + in.string() + " " + decoded);
+  INFO(compared.output);
+  REQUIRE(compared.exit_code == 0);
+  CHECK(psnr_in(compared.output.substr(compared.output.find("PSNR"))) > 50);
   fs::remove_all(dir);
 }
 
