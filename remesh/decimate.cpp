@@ -419,18 +419,20 @@ std::vector<DecimateResult> decimate_to_targets(const TriangleMesh& mesh, const 
     ModInputNormalT<HalfedgeMesh>::Handle input_normal;
     ModComponentFloorT<HalfedgeMesh>::Handle component_floor;
     ModFeatureLinesT<HalfedgeMesh>::Handle feature_lines;
+    // The binary modules are asked in the order added, and the first refusal ends it: the
+    // cheapest first (the outcome is the same in any order: each only vetoes).
     decimater.add(quadric);
-    decimater.add(input_normal);
-    decimater.add(normal_flipping);
-    decimater.add(aspect_ratio);
     decimater.add(component_floor);
-    decimater.module(normal_flipping).set_max_normal_deviation(options.max_normal_deviation_degrees);
-    decimater.module(aspect_ratio).set_aspect_ratio(static_cast<float>(options.min_aspect_ratio));
     decimater.module(component_floor).set_components(component_of_handle, floor);
     if (options.feature_lines && !options.feature_lines->empty()) {
       decimater.add(feature_lines);
       decimater.module(feature_lines).set_lines(*options.feature_lines, handle);
     }
+    decimater.add(aspect_ratio);
+    decimater.module(aspect_ratio).set_aspect_ratio(static_cast<float>(options.min_aspect_ratio));
+    decimater.add(normal_flipping);
+    decimater.module(normal_flipping).set_max_normal_deviation(options.max_normal_deviation_degrees);
+    decimater.add(input_normal);
     if (!decimater.initialize()) throw std::logic_error("decimate: OpenMesh's decimater did not initialize");
     decimater.set_observer(&snapshots);
     collapses = decimater.decimate(sorted_at.back());

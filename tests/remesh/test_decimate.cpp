@@ -527,9 +527,11 @@ TEST_CASE("decimate: corpus meshes to a few hundred vertices", "[corpus][decimat
 
 TEST_CASE("decimate: the collapse test compiled here decides as OpenMesh's own", "[decimate]") {
   // remesh/halfedge_mesh.h replaces TriConnectivity::is_collapse_ok() (slow in Debian's
-  // assert-enabled build) by its own link-condition test; both are asked about every halfedge of
-  // closed, open and higher-genus meshes, and again after each of many random collapses (which
-  // create the valence-3 flaps, boundary corners and near-tetrahedra where the rules differ).
+  // assert-enabled build) by its own link-condition test, and PolyConnectivity::find_halfedge()
+  // by its own walk; both are asked about every halfedge of closed, open and higher-genus meshes
+  // (find_halfedge also about the two ends of each, the other way round, and the ends' other
+  // neighbours' pairs), and again after each of many random collapses (which create the
+  // valence-3 flaps, boundary corners and near-tetrahedra where the rules differ).
   for (const TriangleMesh& input : {test::icosphere(2), test::grid(6), test::torus(), test::bicone(5), test::disk(6)}) {
     HalfedgeMesh mesh;
     std::vector<HalfedgeMesh::VertexHandle> handle;
@@ -549,6 +551,14 @@ TEST_CASE("decimate: the collapse test compiled here decides as OpenMesh's own",
       for (const auto h : mesh.halfedges()) {
         const bool ours = mesh.is_collapse_ok(h), theirs = mesh.OpenMesh::TriConnectivity::is_collapse_ok(h);
         REQUIRE(ours == theirs);
+        if (!mesh.status(mesh.edge_handle(h)).deleted()) {
+          const auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
+          const auto apex = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
+          for (const auto& [u, w] : {std::pair(from, to), std::pair(to, from), std::pair(from, apex),
+                                     std::pair(apex, from), std::pair(to, mesh.to_vertex_handle(mesh.next_halfedge_handle(
+                                                                              mesh.opposite_halfedge_handle(h))))})
+            REQUIRE(mesh.find_halfedge(u, w) == HalfedgeMesh::HalfedgeHandle(mesh.OpenMesh::PolyConnectivity::find_halfedge(u, w)));
+        }
         ++compared;
         if (ours) allowed.push_back(h);
         else ++refused;
