@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "files.h"
 #include "meshlift/codec.h"
+#include "meshlift/triangulate.h"
 #include "meshlift/validate.h"
 
 namespace meshlift::cli {
@@ -103,6 +104,15 @@ int run_info(const InfoOptions& options) {
   MeshReport report = validate_mesh(*mesh);
   add_self_intersections(*mesh, report);
   std::cout << (options.json ? to_json(report) : to_text(report));
+  if (!options.json && report.non_triangle_faces > 0 && report.invalid_index_faces == 0) {
+    // What encode and remesh take: the polygons split into triangles (triangulate.h).
+    const Triangulation t = triangulate(*mesh);
+    const std::string problem = first_problem_for_triangle_codec(validate_mesh(t.mesh));
+    std::cout << "split into triangles:    " << t.quads << " quads and " << t.polygons << " larger polygons into "
+              << t.split_triangles << " triangles (as encode and remesh do), "
+              << (t.fans ? std::to_string(t.fans) + " of them as fans, " : std::string()) << "triangle codec "
+              << (problem.empty() ? std::string("ok") : problem) << "\n";
+  }
   return kOk;
 }
 

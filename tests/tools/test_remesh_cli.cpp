@@ -107,6 +107,11 @@ TEST_CASE("encode remeshes a mesh without subdivision connectivity and refuses b
 TEST_CASE("remesh and encode split a quad mesh's faces into triangles first, and say so", "[cli][remesh]") {
   const fs::path dir = meshlift::test::cli_scratch("remesh_cli_quads");
   const fs::path in = write_bumpy_sphere(dir / "quads.off", 24, 32, true);
+  const auto info = run_cli("info " + in.string());
+  REQUIRE(info.exit_code == 0);
+  CHECK_THAT(info.output, Catch::Contains("triangles required"));
+  CHECK_THAT(info.output, Catch::Contains("split into triangles:    704 quads and 0 larger polygons into 1408 triangles "
+                                          "(as encode and remesh do), triangle codec ok"));
   const auto remeshed = run_cli("remesh " + in.string() + " -o " + (dir / "r.ply").string());
   INFO(remeshed.output);
   REQUIRE(remeshed.exit_code == 0);
