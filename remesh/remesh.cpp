@@ -71,11 +71,14 @@ constexpr std::size_t kChoiceSamples = 200'000;
 /// cost, about ±0.03 dB, against RemeshOptions::give_up_margin).
 constexpr std::size_t kQuickSamples = 20'000;
 
-/// PSNR of a remesh against the input on `samples` area samples a side.
-double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, std::size_t samples = kChoiceSamples) {
+/// PSNR of a mesh against the input on `samples` area samples a side.
+double remesh_psnr(const TriangleMesh& input, const TriangleMesh& remeshed, std::size_t samples = kChoiceSamples) {
   MetricOptions metric;
   metric.samples = samples;
-  return surface_distance(input, remeshed.finest(), metric).psnr_db();
+  return surface_distance(input, remeshed, metric).psnr_db();
+}
+double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, std::size_t samples = kChoiceSamples) {
+  return remesh_psnr(input, remeshed.finest(), samples);
 }
 
 /// Places the refined base on the surface from `guide` and untangles its folded patches.
@@ -111,13 +114,16 @@ constexpr double kNowhere = std::numeric_limits<double>::infinity();
 /// is given up after its first placement (nullopt) when that placement is so far from the input
 /// that the rest could not bring it there: its PSNR plus `give_up_margin` is below `abandon_below`
 /// (RemeshOptions::give_up_margin). One is set aside after it instead (nullopt) when that
-/// placement is `set_aside_at` dB or closer: the automatic density then tries sparser bases
-/// first (RemeshOptions::sparsest_density_psnr). `*placed_psnr`, if given, receives the placement's
-/// PSNR (kQuickSamples a side) when it stops there. kNever, kNowhere: never.
+/// placement is `set_aside_at` dB or closer, or before it when one of its guides is
+/// `set_aside_guide_at` dB or closer: the automatic density then tries sparser bases first
+/// (RemeshOptions::sparsest_density_psnr, sparsest_guide_psnr). `*placed_psnr`, if given,
+/// receives the placement's PSNR (kQuickSamples a side) when it stops there, kNowhere when it
+/// stops at its guides. kNever, kNowhere: never.
 std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface,
                                                  const DecimateResult& decimated, const FeatureLines& lines, int levels,
                                                  BaseFit fit, int least_squares_rounds, double abandon_below,
-                                                 double set_aside_at, double give_up_margin, double* placed_psnr,
+                                                 double set_aside_at, double set_aside_guide_at, double give_up_margin,
+                                                 double* placed_psnr,
                                                  const std::function<void(double)>& report,
                                                  std::vector<std::pair<std::string, double>>& stages) {
   StageClock clock(stages);
@@ -173,6 +179,13 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
     hold_features(mixed);
     if (mixed != guides[0]) guides.push_back(std::move(mixed));
   }
+  if (set_aside_guide_at < kNowhere)
+    for (const std::vector<double>& guide : guides)
+      if (remesh_psnr(mesh, TriangleMesh{guide, h.triangles(h.levels())}, kQuickSamples) >= set_aside_guide_at) {
+        clock.lap("guides, then set aside");
+        if (placed_psnr) *placed_psnr = kNowhere;
+        return std::nullopt;
+      }
   clock.lap("guides");
   report(0.2);
 
@@ -426,7 +439,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
                          double set_aside_at = kNowhere) {
     std::optional<RemeshResult> r = remesh_by_decimation(
         mesh, surface, decimated, with, options.levels, options.fit, options.least_squares_rounds, abandon_below,
-        set_aside_at, options.give_up_margin, placed_psnr, [&](double f) { report(from + (to - from) * f); }, stages);
+        set_aside_at, set_aside_at < kNowhere ? options.sparsest_guide_psnr : kNowhere, options.give_up_margin, placed_psnr,
+        [&](double f) { report(from + (to - from) * f); }, stages);
     if (r) r->density = options.base_vertices != 0 ? 0 : density;
     return r;
   };
@@ -488,8 +502,9 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     };
     // The 2x remesh (`sparse`), or a sparser one: where the 2x remesh is first placed
     // sparsest_density_psnr or closer to the input (a smooth mesh, or a CAD mesh along its
-    // feature lines), it is set aside and the kSparserAutoDensities come first, in turn, the
-    // first that qualifies kept (each given up where its placement shows it cannot: the next
+    // feature lines), or has a guide sparsest_guide_psnr or closer (then it is not even
+    // placed), it is set aside and the kSparserAutoDensities come first, in turn, the first
+    // that qualifies kept (each given up where its placement shows it cannot: the next
     // is made anyway); the 2x one is finished only if none does. Measured (docs/RESULTS.md):
     // bear_bis 84.6 dB at 2x, 83.1 at 1.5x, 80.7 at 1x, BD-rate against Draco -76.8 -> -80.5 %
     // at 1.5x, -82.9 -> -85.1 % at 1x; a 104,002-vertex armadillo (placed 2x at 88.6 dB, 1x

@@ -183,9 +183,10 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   MetricOptions metric;
   metric.samples = 200'000;
   // A smooth surface: the 2x remesh is within the threshold, and it is what comes back (when it
-  // is not far within: see below).
+  // is not far within: see below). The set-aside by the guides alone is off until the end.
   options.auto_density_psnr = 60;
   options.sparsest_density_psnr = 500;
+  options.sparsest_guide_psnr = std::numeric_limits<double>::infinity();
   const RemeshResult sparse = remesh(input, options);
   CHECK(sparse.density == 2);
   CHECK(surface_distance(input, sparse.mesh.finest(), metric).psnr_db() >= 60);
@@ -220,6 +221,15 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   CHECK(set_aside.density == 2);
   CHECK(count(set_aside, "place, then set aside") == 1);
   CHECK(set_aside.mesh.positions == sparse.mesh.positions);
+  // A guide that close already: set aside without being placed, the same choice.
+  options.auto_density_psnr = 60;
+  options.sparsest_guide_psnr = 0;
+  const RemeshResult unplaced = remesh(input, options);
+  CHECK(count(unplaced, "guides, then set aside") == 1);
+  CHECK(count(unplaced, "place, then set aside") == 0);
+  CHECK(unplaced.density == 1);
+  CHECK(unplaced.mesh.positions == sparsest.mesh.positions);
+  options.sparsest_guide_psnr = std::numeric_limits<double>::infinity();
   options.sparsest_density_psnr = 500;
   // A threshold no 2x remesh reaches: the 3x one when it reaches its own (identical to asking
   // for density 3), else the 4x one (identical to asking for density 4) when it is the closest

@@ -63,6 +63,13 @@ struct RemeshOptions {
   /// before 1x) but for diplodocus (its 2x remesh folds: 3x before, now 1x) and fandisk_large
   /// (1.5x before, now 1x), both coded in fewer bits at 55-75 dB (docs/RESULTS.md).
   double sparsest_density_psnr = 76;
+  /// The 2x remesh is also set aside, before it is placed, when one of its guides (the Loop limit
+  /// surface of its base, before anything is put on the input; remesh.cpp) is this close (dB)
+  /// already: its placement would be far within. On the 25 corpus meshes the 2x guides of 58 dB
+  /// or closer (blade 69.9, the 104k armadillo 63.3, bunny00 61.3, diplodocus 60.4) were placed at
+  /// 85 dB or closer, those of the meshes that stay at 2× or denser at 54.2 or farther
+  /// (armadillo): the same choices, without the 2x placement (the 104k armadillo 2.6 s less).
+  double sparsest_guide_psnr = 58;
   /// Where the 2x remesh falls short, the automatic density keeps the 3x one if it reaches this
   /// (dB) with no fold, before trying 4x. Above auto_density_psnr by a margin: a 3x remesh just
   /// within 75 dB bends the codec's curve below 4x's at the top of 55-75 dB (homer, 75.3 dB:
