@@ -45,8 +45,9 @@ struct RemeshOptions {
   /// and folds no face (but where the input passes through itself: no orientation faces both of
   /// its sheets there); else 3x if that one reaches middle_density_psnr and folds none; else the
   /// closest to the input of 2x, 3x and 4x, then of denser ones where those all fall short of
-  /// dense_density_psnr. Where the 2x remesh as first placed reaches sparsest_density_psnr,
-  /// the kSparserAutoDensities come first, in turn, the first that qualifies kept. Measured (docs/RESULTS.md): 4x gives the
+  /// dense_density_psnr. Where the 2x remesh as first placed reaches sparsest_density_psnr (or
+  /// one of its guides sparsest_guide_psnr), the kSparserAutoDensities come first, in turn, the
+  /// first that qualifies kept. Measured (docs/RESULTS.md): 4x gives the
   /// closer remesh (about 4-9 dB above 2x where both work); 2x codes the 55-75 dB range in
   /// fewer bits (BD-rate against Draco: armadillo -70 % instead of -61 %, bear_bis -74 % instead
   /// of -64 %) but misses limbs on some meshes (camel 59 dB, elephant 49 dB at 2x).
