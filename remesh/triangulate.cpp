@@ -98,7 +98,10 @@ Triangulation triangulate(const PolygonMesh& mesh) {
   result.mesh.positions = mesh.positions;
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     const std::size_t n = mesh.face_size(f);
-    if (n < 3) continue;
+    if (n < 3) {
+      ++result.dropped;
+      continue;
+    }
     const auto first = mesh.face_indices.begin() + mesh.face_offsets[f];
     const std::size_t before = result.mesh.triangles.size();
     if (n == 3) {

@@ -75,6 +75,7 @@ TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh) {
   std::cerr << "meshlift: " << path << ": " << t.quads << " quads and " << t.polygons
             << " larger polygons split into " << t.split_triangles << " triangles";
   if (t.fans > 0) std::cerr << " (" << t.fans << " of them with no ear to clip, self-intersecting or flat: split as fans)";
+  if (t.dropped > 0) std::cerr << "; " << t.dropped << " faces of fewer than 3 corners left out";
   std::cerr << "\n";
   return std::move(t.mesh);
 }

@@ -38,7 +38,8 @@ bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
 std::optional<PolygonMesh> load_mesh(const std::string& path);
 /// `mesh` as triangles: as it is, or with its other faces split by triangulate() (triangulate.h)
 /// and a note on standard error (`meshlift: PATH: 6 quads and 0 larger polygons split into 12
-/// triangles`, and how many had no ear and were split as fans).
+/// triangles`, how many had no ear and were split as fans, and how many faces of fewer than 3
+/// corners were left out).
 TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh);
 
 /// Writes an output mesh; on failure prints the one-line error and returns false.

@@ -74,6 +74,7 @@ TEST_CASE("triangulate: triangles pass through, other faces become n - 2 triangl
   const Triangulation m = triangulate(mixed);
   CHECK(m.mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
   CHECK(m.source_face == std::vector<std::uint32_t>{0});
+  CHECK(m.dropped == 1);
   // A face naming a vertex that does not exist.
   mixed.face_indices.back() = 7;
   CHECK_THROWS_AS(triangulate(mixed), MeshError);
