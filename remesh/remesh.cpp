@@ -490,10 +490,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       double density = 0;
       std::optional<RemeshResult> remesh;
       double psnr = 0;  // finished: its PSNR; given up: the most it could have reached; set
-                        // aside: its placement's
+                        // aside: its placement's (infinity if set aside at its guides)
     };
     // Makes m's remesh with `with`, given up below `abandon_below` dB (and set aside at
-    // `set_aside_at`: m.psnr is then its placement's PSNR).
+    // `set_aside_at`, or by its guides: m.psnr is then at least set_aside_at).
     auto make = [&](Made& m, double from, double to, const FeatureLines& with, double abandon_below,
                     double set_aside_at = kNowhere) {
       double placed = 0;
