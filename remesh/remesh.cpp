@@ -433,7 +433,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     return (*bases)[static_cast<std::size_t>(at - auto_densities.begin())];
   };
   // The remesh of a decimated base, or nullopt if given up below `abandon_below` dB or set aside
-  // at `set_aside_at`, with `*placed_psnr` its first placement's PSNR (remesh_by_decimation).
+  // at `set_aside_at` (or, where that is set, by its guides at sparsest_guide_psnr), with
+  // `*placed_psnr` its first placement's PSNR (remesh_by_decimation).
   auto remesh_base = [&](const DecimateResult& decimated, double density, double from, double to,
                          const FeatureLines& with, double abandon_below = kNever, double* placed_psnr = nullptr,
                          double set_aside_at = kNowhere) {

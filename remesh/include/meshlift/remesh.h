@@ -70,6 +70,8 @@ struct RemeshOptions {
   /// or closer (blade 69.9, the 104k armadillo 63.3, bunny00 61.3, diplodocus 60.4) were placed at
   /// 85 dB or closer, those of the meshes that stay at 2× or denser at 54.2 or farther
   /// (armadillo): the same choices, without the 2x placement (the 104k armadillo 2.6 s less).
+  /// Applies where sparsest_density_psnr can set the 2x remesh aside (infinity there turns both
+  /// off); infinity here turns this one off.
   double sparsest_guide_psnr = 58;
   /// Where the 2x remesh falls short, the automatic density keeps the 3x one if it reaches this
   /// (dB) with no fold, before trying 4x. Above auto_density_psnr by a margin: a 3x remesh just
