@@ -33,8 +33,9 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
       ->capture_default_str();
   cmd.add_option("--density", options.density,
                  "remesh vertices per input vertex the base size aims at, 1..1024, or auto: 2 if that remesh is "
-                 "within 75 dB PSNR of the input (fewer bits at 55-75 dB), else 3 or 4 (closer), then 6 and 8 while the "
-                 "closest is still short of 75 dB (small inputs)")
+                 "within 75 dB PSNR of the input (fewer bits at 55-75 dB; 1, else 1.5, where 2 is far within and "
+                 "they are within 75 dB too), else 3 or 4 (closer), then 6 and 8 while the closest is still short "
+                 "of 75 dB (small inputs)")
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1.0, 1024.0))
       ->capture_default_str();
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
