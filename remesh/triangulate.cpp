@@ -37,10 +37,12 @@ constexpr std::size_t kMaxClipped = 64;
 /// `out`; returns false if it had to fall back to a fan.
 bool clip_ears(const std::vector<double>& positions, std::vector<std::uint32_t> corners, std::vector<std::uint32_t>& out) {
   auto at = [&](std::uint32_t v) { return vec3::at(positions, v); };
-  // Newell's normal: Σ (p_i × p_{i+1}) / 2 is the vector area of the polygon, planar or not.
+  // Newell's normal: Σ (p_i × p_{i+1}) / 2 is the vector area of the polygon, planar or not;
+  // taken about corner 0 (the same sum) so that a face far from the origin keeps its digits.
+  const Vec3 origin = at(corners[0]);
   Vec3 normal{0, 0, 0};
   for (std::size_t i = 0; i < corners.size(); ++i) {
-    const Vec3 c = cross(at(corners[i]), at(corners[(i + 1) % corners.size()]));
+    const Vec3 c = cross(sub(at(corners[i]), origin), sub(at(corners[(i + 1) % corners.size()]), origin));
     for (int k = 0; k < 3; ++k) normal[k] += c[k];
   }
   // Signed area of (a, b, c) along the normal: > 0 where the corner turns the polygon's way.
@@ -49,16 +51,15 @@ bool clip_ears(const std::vector<double>& positions, std::vector<std::uint32_t> 
     return turn(a, b, p) >= 0 && turn(b, c, p) >= 0 && turn(c, a, p) >= 0;
   };
   bool clean = dot(normal, normal) > 0;
-  if (corners.size() > kMaxClipped) {
-    // Ear clipping costs O(n³) here: a fan from corner 0 instead, exact where every corner turns
-    // the polygon's way (the caps of a CAD cylinder), else reported as a fan.
+  const bool clip = corners.size() <= kMaxClipped;
+  if (!clip) {
+    // Ear clipping costs O(n³) here: the fan below instead, exact where every corner turns the
+    // polygon's way (the caps of a CAD cylinder), else reported as a fan.
     const std::size_t n = corners.size();
     for (std::size_t i = 0; i < n && clean; ++i)
       clean = turn(at(corners[i]), at(corners[(i + 1) % n]), at(corners[(i + 2) % n])) > 0;
-    for (std::size_t i = 1; i + 1 < n; ++i) out.insert(out.end(), {corners[0], corners[i], corners[i + 1]});
-    return clean;
   }
-  while (clean && corners.size() > 3) {
+  while (clip && clean && corners.size() > 3) {
     const std::size_t n = corners.size();
     std::size_t best = n;
     double best_key = -1;
@@ -103,7 +104,6 @@ Triangulation triangulate(const PolygonMesh& mesh) {
       continue;
     }
     const auto first = mesh.face_indices.begin() + mesh.face_offsets[f];
-    const std::size_t before = result.mesh.triangles.size();
     if (n == 3) {
       result.mesh.triangles.insert(result.mesh.triangles.end(), first, first + 3);
     } else {
@@ -113,8 +113,6 @@ Triangulation triangulate(const PolygonMesh& mesh) {
         ++result.fans;
       result.split_triangles += n - 2;
     }
-    result.source_face.insert(result.source_face.end(), (result.mesh.triangles.size() - before) / 3,
-                              static_cast<std::uint32_t>(f));
   }
   return result;
 }

@@ -1,5 +1,6 @@
 // Polygon faces split into triangles (triangulate.h).
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <utility>
@@ -57,7 +58,12 @@ TEST_CASE("triangulate: triangles pass through, other faces become n - 2 triangl
   CHECK(t.split_triangles == 12);
   REQUIRE(t.mesh.face_count() == 12);
   CHECK(t.mesh.positions == cube.positions);
-  CHECK(t.source_face == std::vector<std::uint32_t>{0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5});
+  // Face by face, in the faces' order: triangles 2f and 2f + 1 hold quad f's corners.
+  for (std::size_t f = 0; f < 6; ++f)
+    for (std::size_t i = 0; i < 6; ++i) {
+      const auto begin = cube.face_indices.begin() + cube.face_offsets[f], end = cube.face_indices.begin() + cube.face_offsets[f + 1];
+      CHECK(std::find(begin, end, t.mesh.triangles[6 * f + i]) != end);
+    }
   // A closed, consistently oriented triangle mesh: the quads' orientation is kept.
   CHECK(first_problem_for_triangle_codec(validate_mesh(t.mesh)).empty());
 
@@ -73,7 +79,6 @@ TEST_CASE("triangulate: triangles pass through, other faces become n - 2 triangl
   mixed.face_offsets.push_back(5);
   const Triangulation m = triangulate(mixed);
   CHECK(m.mesh.triangles == std::vector<std::uint32_t>{0, 1, 2});
-  CHECK(m.source_face == std::vector<std::uint32_t>{0});
   CHECK(m.dropped == 1);
   // A face naming a vertex that does not exist.
   mixed.face_indices.back() = 7;
@@ -100,6 +105,13 @@ TEST_CASE("triangulate: non-convex faces are clipped inside, where a fan would f
   CHECK(l.fans == 0);
   REQUIRE(l.mesh.face_count() == 4);
   check_covers(l, 3);
+  // The same face a billion units from the origin: the same triangles (the normal is summed about
+  // a corner, not the origin, where products of 1e9-sized coordinates lose the face's area).
+  PolygonMesh far = planar_face({{2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 0}, {2, 0}});
+  for (std::size_t i = 0; i < far.positions.size(); i += 3) far.positions[i] += 1e9, far.positions[i + 1] += 1e9;
+  const Triangulation f = triangulate(far);
+  CHECK(f.fans == 0);
+  CHECK(f.mesh.triangles == l.mesh.triangles);
   // A five-pointed star (10 corners, 5 of them reflex).
   std::vector<std::pair<double, double>> star;
   for (int i = 0; i < 10; ++i) {

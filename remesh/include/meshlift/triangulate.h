@@ -14,8 +14,6 @@ struct Triangulation {
   /// The same vertices; each face of n corners as n − 2 triangles, in face order, oriented as the
   /// face (every triangle's corners in the face's cyclic order).
   TriangleMesh mesh;
-  /// For each triangle, the input face it comes from.
-  std::vector<std::uint32_t> source_face;
   std::size_t quads = 0;     ///< input faces of 4 corners
   std::size_t polygons = 0;  ///< input faces of 5 or more corners
   std::size_t split_triangles = 0;  ///< the triangles those quads and polygons became
