@@ -10,7 +10,6 @@
 #include "commands.h"
 #include "files.h"
 #include "meshlift/codec.h"
-#include "meshlift/triangulate.h"
 #include "meshlift/validate.h"
 
 namespace meshlift::cli {
@@ -108,9 +107,7 @@ int run_info(const InfoOptions& options) {
     // What encode and remesh take: the polygons split into triangles (triangulate.h).
     const Triangulation t = triangulate(*mesh);
     const std::string problem = first_problem_for_triangle_codec(validate_mesh(t.mesh));
-    std::cout << "split into triangles:    " << t.quads << " quads and " << t.polygons << " larger polygons into "
-              << t.split_triangles << " triangles (as encode and remesh do), "
-              << (t.fans ? std::to_string(t.fans) + " of them as fans, " : std::string()) << "triangle codec "
+    std::cout << "as encode takes it:      " << describe(t) << "; triangle codec "
               << (problem.empty() ? std::string("ok") : problem) << "\n";
   }
   return kOk;

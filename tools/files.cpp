@@ -9,7 +9,6 @@
 #include <random>
 
 #include "meshlift/mesh_io.h"
-#include "meshlift/triangulate.h"
 
 namespace meshlift::cli {
 
@@ -72,12 +71,17 @@ std::optional<PolygonMesh> load_mesh(const std::string& path) {
 TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh) {
   if (mesh.is_triangle_mesh()) return to_triangle_mesh(mesh);
   Triangulation t = triangulate(mesh);
-  std::cerr << "meshlift: " << path << ": " << t.quads << " quads and " << t.polygons
-            << " larger polygons split into " << t.split_triangles << " triangles";
-  if (t.fans > 0) std::cerr << " (" << t.fans << " of them with no ear to clip, self-intersecting or flat: split as fans)";
-  if (t.dropped > 0) std::cerr << "; " << t.dropped << " faces of fewer than 3 corners left out";
-  std::cerr << "\n";
+  std::cerr << "meshlift: " << path << ": " << describe(t) << "\n";
   return std::move(t.mesh);
+}
+
+std::string describe(const Triangulation& t) {
+  std::string text = std::to_string(t.quads) + " quads and " + std::to_string(t.polygons) +
+                     " larger polygons split into " + std::to_string(t.split_triangles) + " triangles";
+  if (t.fans > 0)
+    text += " (" + std::to_string(t.fans) + " of them with no ear to clip, self-intersecting or flat: split as fans)";
+  if (t.dropped > 0) text += "; " + std::to_string(t.dropped) + " faces of fewer than 3 corners left out";
+  return text;
 }
 
 namespace {

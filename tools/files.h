@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "meshlift/mesh.h"
+#include "meshlift/triangulate.h"
 
 namespace meshlift::cli {
 
@@ -41,6 +42,8 @@ std::optional<PolygonMesh> load_mesh(const std::string& path);
 /// triangles`, how many had no ear and were split as fans, and how many faces of fewer than 3
 /// corners were left out).
 TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh);
+/// That note's text for a triangulation: `6 quads and 0 larger polygons split into 12 triangles`, ...
+std::string describe(const Triangulation& t);
 
 /// Writes an output mesh; on failure prints the one-line error and returns false.
 bool save_mesh(const std::string& path, const PolygonMesh& mesh, bool binary);
