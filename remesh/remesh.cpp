@@ -490,16 +490,17 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     struct Made {
       double density = 0;
       std::optional<RemeshResult> remesh;
-      double psnr = 0;  // finished: its PSNR; given up: the most it could have reached; set
-                        // aside: its placement's (infinity if set aside at its guides)
+      double psnr = 0;  // finished: its PSNR; given up: the most it could have reached
+      bool set_aside = false;  // stopped at its first placement or its guides, to try sparser ones first
     };
-    // Makes m's remesh with `with`, given up below `abandon_below` dB (and set aside at
-    // `set_aside_at`, or by its guides: m.psnr is then at least set_aside_at).
+    // Makes m's remesh with `with`, given up below `abandon_below` dB, or set aside at
+    // `set_aside_at` (remesh_by_decimation reports that by a placed PSNR at least that).
     auto make = [&](Made& m, double from, double to, const FeatureLines& with, double abandon_below,
                     double set_aside_at = kNowhere) {
       double placed = 0;
       m.remesh = remesh_base(auto_base(m.density, with), m.density, from, to, with, abandon_below, &placed, set_aside_at);
-      m.psnr = m.remesh ? psnr(*m.remesh) : placed >= set_aside_at ? placed : placed + options.give_up_margin;
+      m.set_aside = !m.remesh && placed >= set_aside_at;
+      m.psnr = m.remesh ? psnr(*m.remesh) : placed + options.give_up_margin;
     };
     // The 2x remesh (`sparse`), or a sparser one: where the 2x remesh is first placed
     // sparsest_density_psnr or closer to the input (a smooth mesh, or a CAD mesh along its
@@ -508,12 +509,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // that qualifies kept (each given up where its placement shows it cannot: the next
     // is made anyway); the 2x one is finished only if none does. Measured (docs/RESULTS.md):
     // bear_bis 84.6 dB at 2x, 83.1 at 1.5x, 80.7 at 1x, BD-rate against Draco -76.8 -> -80.5 %
-    // at 1.5x, -82.9 -> -85.1 % at 1x; a 104,002-vertex armadillo (placed 2x at 88.6 dB, 1x
-    // 87.0 finished) takes 1x in 9.6-10.9 s instead of finishing 2x, 1.5x and 1x in 19-20 s.
+    // at 1.5x, -82.9 -> -85.1 % at 1x; a 104,002-vertex armadillo (2x guide at 63.3 dB, 1x
+    // 87.0 finished) takes 1x in 8.0-8.1 s instead of finishing 2x, 1.5x and 1x in 19-21 s.
     auto sparse_or_sparser = [&](Made& sparse, double from, double to, const FeatureLines& with,
                                  double abandon_below) -> std::optional<RemeshResult> {
       make(sparse, from, from + 0.5 * (to - from), with, abandon_below, options.sparsest_density_psnr);
-      if (!sparse.remesh && sparse.psnr >= options.sparsest_density_psnr) {
+      if (sparse.set_aside) {
         double at = from + 0.5 * (to - from);
         for (const double density : kSparserAutoDensities) {
           Made sparser{density, std::nullopt, 0};
