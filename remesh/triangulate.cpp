@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "vec3.h"
@@ -88,6 +89,32 @@ bool clip_ears(const std::vector<double>& positions, std::vector<std::uint32_t> 
   return clean;
 }
 
+/// The simple loops of a face's corner cycle: corners repeated in a row merged first (a triangle
+/// written as a quad, "a b c c", or "a b c a"), then the cycle cut at each corner it comes back
+/// to ("a b c a d e" -> "a b c", "a d e"): the standard split of a closed walk into simple
+/// cycles. Sets `merged` and `pinched` when the face had such repeats.
+std::vector<std::vector<std::uint32_t>> simple_loops(std::span<const std::uint32_t> face, bool& merged, bool& pinched) {
+  std::vector<std::uint32_t> cycle;
+  for (const std::uint32_t v : face)
+    if (cycle.empty() || cycle.back() != v) cycle.push_back(v);
+  while (cycle.size() > 1 && cycle.back() == cycle.front()) cycle.pop_back();
+  merged = cycle.size() != face.size();
+  std::vector<std::vector<std::uint32_t>> loops;
+  std::vector<std::uint32_t> path;
+  for (const std::uint32_t v : cycle) {
+    const auto again = std::find(path.begin(), path.end(), v);
+    if (again != path.end()) {  // the walk is back at v: what it went round since is a loop
+      loops.emplace_back(again, path.end());
+      path.erase(again + 1, path.end());
+    } else {
+      path.push_back(v);
+    }
+  }
+  pinched = !loops.empty();
+  loops.push_back(std::move(path));
+  return loops;
+}
+
 }  // namespace
 
 Triangulation triangulate(const PolygonMesh& mesh) {
@@ -106,13 +133,22 @@ Triangulation triangulate(const PolygonMesh& mesh) {
     const auto first = mesh.face_indices.begin() + mesh.face_offsets[f];
     if (n == 3) {
       result.mesh.triangles.insert(result.mesh.triangles.end(), first, first + 3);
-    } else {
-      n == 4 ? ++result.quads : ++result.polygons;
-      if (!clip_ears(mesh.positions, std::vector<std::uint32_t>(first, first + static_cast<std::ptrdiff_t>(n)),
-                     result.mesh.triangles))
-        ++result.fans;
-      result.split_triangles += n - 2;
+      continue;
     }
+    n == 4 ? ++result.quads : ++result.polygons;
+    bool merged = false, pinched = false, fan = false;
+    const std::size_t before = result.mesh.triangles.size();
+    for (std::vector<std::uint32_t>& loop :
+         simple_loops(std::span(&*first, n), merged, pinched)) {
+      if (loop.size() < 3) continue;  // a corner or an edge gone over twice: no area
+      fan |= !clip_ears(mesh.positions, std::move(loop), result.mesh.triangles);
+    }
+    result.repeated_corners += merged;
+    result.pinched += pinched;
+    result.fans += fan;
+    const std::size_t made = (result.mesh.triangles.size() - before) / 3;
+    result.split_triangles += made;
+    result.dropped += made == 0;
   }
   return result;
 }

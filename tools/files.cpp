@@ -80,7 +80,11 @@ std::string describe(const Triangulation& t) {
                      " larger polygons split into " + std::to_string(t.split_triangles) + " triangles";
   if (t.fans > 0)
     text += " (" + std::to_string(t.fans) + " of them with no ear to clip, self-intersecting or flat: split as fans)";
-  if (t.dropped > 0) text += "; " + std::to_string(t.dropped) + " faces of fewer than 3 corners left out";
+  if (t.repeated_corners > 0)
+    text += "; " + std::to_string(t.repeated_corners) + " of them named a corner twice in a row (merged: a triangle written as a quad)";
+  if (t.pinched > 0)
+    text += "; " + std::to_string(t.pinched) + " came back to a corner (split there into simple loops)";
+  if (t.dropped > 0) text += "; " + std::to_string(t.dropped) + " faces of fewer than 3 distinct corners left out";
   return text;
 }
 

@@ -151,3 +151,62 @@ TEST_CASE("triangulate: faces with no ear, and very large faces, become fans and
   CHECK(w.fans == 1);
   CHECK(w.mesh.face_count() == 98);
 }
+
+TEST_CASE("triangulate: corners repeated in a row are merged, a face that comes back to a corner is cut there",
+          "[triangulate]") {
+  // A triangle written as a quad, as some exporters do, at the end and across the wrap: one
+  // triangle, not one and a degenerate one (which the validation would refuse).
+  for (const std::vector<std::uint32_t>& face : {std::vector<std::uint32_t>{0, 1, 2, 2}, {0, 1, 2, 0}, {0, 0, 1, 2}}) {
+    PolygonMesh m = planar_face({{0, 0}, {1, 0}, {0, 1}});
+    m.face_indices = face;
+    m.face_offsets = {0, 4};
+    const Triangulation t = triangulate(m);
+    CHECK(t.quads == 1);
+    CHECK(t.repeated_corners == 1);
+    CHECK(t.pinched == 0);
+    CHECK(t.dropped == 0);
+    REQUIRE(t.mesh.face_count() == 1);
+    check_covers(t, 0.5);
+    CHECK(validate_mesh(t.mesh).degenerate_faces == 0);
+  }
+  // A pentagon with a repeated corner is the square it draws.
+  {
+    PolygonMesh m = planar_face({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    m.face_indices = {0, 1, 1, 2, 3};
+    m.face_offsets = {0, 5};
+    const Triangulation t = triangulate(m);
+    CHECK(t.polygons == 1);
+    CHECK(t.repeated_corners == 1);
+    REQUIRE(t.mesh.face_count() == 2);
+    check_covers(t, 1.0);
+  }
+  // Two distinct corners: no area, left out.
+  {
+    PolygonMesh m = planar_face({{0, 0}, {1, 0}});
+    m.face_indices = {0, 0, 1, 1};
+    m.face_offsets = {0, 4};
+    const Triangulation t = triangulate(m);
+    CHECK(t.dropped == 1);
+    CHECK(t.mesh.face_count() == 0);
+  }
+  // Pinched like an 8 at corner 0: the loops 0 1 2 and 0 3 4, each its own triangle.
+  {
+    PolygonMesh m = planar_face({{0, 0}, {1, 0}, {1, 1}, {-1, 0}, {-1, -1}});
+    m.face_indices = {0, 1, 2, 0, 3, 4};
+    m.face_offsets = {0, 6};
+    const Triangulation t = triangulate(m);
+    CHECK(t.polygons == 1);
+    CHECK(t.pinched == 1);
+    CHECK(t.repeated_corners == 0);
+    REQUIRE(t.mesh.face_count() == 2);
+    std::vector<std::vector<std::uint32_t>> triangles;
+    for (std::size_t f = 0; f < 2; ++f) {
+      std::vector<std::uint32_t> c(t.mesh.triangles.begin() + 3 * f, t.mesh.triangles.begin() + 3 * f + 3);
+      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+      triangles.push_back(c);
+    }
+    std::sort(triangles.begin(), triangles.end());
+    CHECK(triangles == std::vector<std::vector<std::uint32_t>>{{0, 1, 2}, {0, 3, 4}});
+    check_covers(t, 0.5 + 0.5);
+  }
+}
