@@ -347,6 +347,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     throw MeshError("polygon soup: " + std::to_string(mesh.face_count()) + " faces in " +
                     std::to_string(checked.connected_components) +
                     " separate pieces; weld the vertices that coincide so that faces share them, then remesh");
+  // Faces of zero area are sampled as nothing and remeshed as they come; but with no area at all
+  // there is no surface to fit, and the "remesh" would be degenerate triangles at an infinite PSNR.
+  if (checked.zero_area_faces == mesh.face_count())
+    throw MeshError("every face has zero area (its corners on a line or at one point): there is no surface to remesh");
   auto report = [&](double fraction) {
     if (options.progress) options.progress(fraction);
   };

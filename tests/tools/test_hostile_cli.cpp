@@ -144,6 +144,8 @@ TEST_CASE("CLI: malformed meshes give the documented message through info and en
        "flipped.off: 1 edge is traversed in the same direction by both faces: orientation is inconsistent (first: edge 0-2)"},
       {"flat.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 2 3 0\n", 0,
        "zero-area faces:         1", "flat.off: 4 vertices -> decimation", 0},
+      {"line.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n3 0 1 2\n3 0 2 3\n", 0, "zero-area faces:         2",
+       "line.off: every face has zero area (its corners on a line or at one point): there is no surface to remesh"},
       {"beyond_float.off", "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n", 3,
        "beyond_float.off: vertex 1 has a coordinate that is missing or not a finite number",
        "beyond_float.off: vertex 1 has a coordinate that is missing or not a finite number"},
