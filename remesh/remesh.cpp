@@ -361,6 +361,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       RemeshResult result{std::move(*recovered)};
       result.recognized = true;
       result.base_vertices = result.mesh.hierarchy.vertex_count(0);
+      result.coincident_vertices = checked.duplicate_vertices;
       report(1);
       return result;
     }
@@ -387,6 +388,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (!input_crossings) input_crossings = self_intersections(mesh);
     const std::vector<std::array<std::uint32_t, 2>>& crossings = *input_crossings;
     result.input_crossing_pairs = crossings.size();
+    result.coincident_vertices = checked.duplicate_vertices;
     if (result.flipped_triangles == 0 || crossings.empty()) return;
     std::vector<std::uint8_t> crossing(mesh.face_count(), 0);
     for (const auto& [f, g] : crossings) crossing[f] = crossing[g] = 1;

@@ -109,6 +109,12 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  : ("; " + std::to_string(result.flipped_where_input_crosses) +
                     " of the flipped triangles are there, where no orientation faces both sheets")
                        .c_str());
+  if (result.coincident_vertices > 0)
+    std::fprintf(stderr,
+                 "%s: note: %zu vertices lie exactly on other vertices without sharing their faces (an unwelded seam "
+                 "or pieces): the remesh keeps both sides apart, as boundaries; weld coincident vertices first for one "
+                 "surface\n",
+                 path.c_str(), result.coincident_vertices);
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
                path.c_str(), d.psnr_db(), d.rms_relative(), d.hausdorff_relative());

@@ -144,6 +144,9 @@ TEST_CASE("CLI: malformed meshes give the documented message through info and en
        "flipped.off: 1 edge is traversed in the same direction by both faces: orientation is inconsistent (first: edge 0-2)"},
       {"flat.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 1 2\n3 0 3 1\n3 1 3 2\n3 2 3 0\n", 0,
        "zero-area faces:         1", "flat.off: 4 vertices -> decimation", 0},
+      // A cube of six unwelded quads: each piece is remeshed apart, and a note says why.
+      {"unwelded.off", "OFF\n24 6 0\n0 0 0\n0 1 0\n1 1 0\n1 0 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n1 0 0\n1 1 0\n1 1 1\n1 0 1\n1 1 0\n0 1 0\n0 1 1\n1 1 1\n0 1 0\n0 0 0\n0 0 1\n0 1 1\n4 0 1 2 3\n4 4 5 6 7\n4 8 9 10 11\n4 12 13 14 15\n4 16 17 18 19\n4 20 21 22 23\n", 0,
+       "duplicate vertices:      16", "unwelded.off: note: 16 vertices lie exactly on other vertices", 0},
       {"line.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n3 0 1 2\n3 0 2 3\n", 0, "zero-area faces:         2",
        "line.off: every face has zero area (its corners on a line or at one point): there is no surface to remesh"},
       {"beyond_float.off", "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n", 3,

@@ -152,6 +152,9 @@ struct RemeshResult {
   /// sheet: no orientation of a face there agrees with both, and the flip test cannot be met.
   std::size_t input_crossing_pairs = 0;
   std::size_t flipped_where_input_crosses = 0;
+  /// Input vertices at exactly the position of another (validate.h's duplicate_vertices): an
+  /// unwelded seam or pieces, which the remesh keeps apart (each side of a seam a boundary).
+  std::size_t coincident_vertices = 0;
   /// Wall-clock seconds per stage, in pipeline order ("decimate", "fit base", "guides", "place
   /// and compare", "least squares and untangle", then "choose density" with the automatic
   /// density, whose remeshes each list their stages, "decimate" only where a decimation ran (one
