@@ -68,11 +68,22 @@ std::optional<PolygonMesh> load_mesh(const std::string& path) {
   }
 }
 
-TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh) {
-  if (mesh.is_triangle_mesh()) return to_triangle_mesh(mesh);
-  Triangulation t = triangulate(mesh);
-  std::cerr << "meshlift: " << path << ": " << describe(t) << "\n";
-  return std::move(t.mesh);
+TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, bool weld) {
+  TriangleMesh triangles;
+  if (mesh.is_triangle_mesh()) {
+    triangles = to_triangle_mesh(mesh);
+  } else {
+    Triangulation t = triangulate(mesh);
+    std::cerr << "meshlift: " << path << ": " << describe(t) << "\n";
+    triangles = std::move(t.mesh);
+  }
+  if (!weld) return triangles;
+  Welding w = weld_coincident(triangles);
+  std::string note = "welded: " + std::to_string(w.joined_vertices) + " coincident vertices joined";
+  if (w.dropped_faces > 0) note += "; " + std::to_string(w.dropped_faces) + " faces left with no area dropped";
+  if (w.duplicate_faces > 0) note += "; " + std::to_string(w.duplicate_faces) + " faces that became copies of others dropped";
+  std::cerr << "meshlift: " << path << ": " << note << "\n";
+  return std::move(w.mesh);
 }
 
 std::string describe(const Triangulation& t) {

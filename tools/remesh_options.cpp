@@ -51,6 +51,9 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
                  "remesh (with --density auto: where their 2x remesh qualifies); 0: none")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
+  cmd.add_flag("--weld", options.weld,
+               "join the input's vertices that sit at exactly the same position first (files whose pieces or UV "
+               "seams have vertices of their own: otherwise each side of such a seam stays a boundary)");
 }
 
 RemeshOptions to_remesh_options(const RemeshCliOptions& options) {
@@ -112,7 +115,7 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
   if (result.coincident_vertices > 0)
     std::fprintf(stderr,
                  "%s: note: %zu vertices lie exactly on other vertices without sharing their faces (an unwelded seam "
-                 "or pieces): the remesh keeps both sides apart, as boundaries; weld coincident vertices first for one "
+                 "or pieces): the remesh keeps both sides apart, as boundaries; weld coincident vertices first (--weld) for one "
                  "surface\n",
                  path.c_str(), result.coincident_vertices);
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());

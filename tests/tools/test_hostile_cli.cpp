@@ -174,6 +174,29 @@ TEST_CASE("CLI: malformed meshes give the documented message through info and en
   CHECK(s.temporaries().empty());
 }
 
+TEST_CASE("CLI: --weld joins an unwelded cube's faces into one closed surface before remeshing", "[cli][hostile]") {
+  Scratch s("weld");
+  const std::string input = s.file("pieces.off", "OFF\n24 6 0\n0 0 0\n0 1 0\n1 1 0\n1 0 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n1 0 0\n1 1 0\n1 1 1\n1 0 1\n1 1 0\n0 1 0\n0 1 1\n1 1 1\n0 1 0\n0 0 0\n0 0 1\n0 1 1\n4 0 1 2 3\n4 4 5 6 7\n4 8 9 10 11\n4 12 13 14 15\n4 16 17 18 19\n4 20 21 22 23\n");
+  const Run apart = run_cli("remesh " + input + " -o " + s.path("apart.off"));
+  INFO(apart.output);
+  REQUIRE(apart.exit_code == 0);
+  CHECK_THAT(apart.output, Catch::Contains("note: 16 vertices lie exactly on other vertices"));
+  CHECK_THAT(run_cli("info " + s.path("apart.off")).output, Catch::Contains("components:              6"));
+  const Run welded = run_cli("remesh " + input + " -o " + s.path("welded.off") + " --weld");
+  INFO(welded.output);
+  REQUIRE(welded.exit_code == 0);
+  CHECK_THAT(welded.output, Catch::Contains("pieces.off: welded: 16 coincident vertices joined"));
+  CHECK_THAT(welded.output, !Catch::Contains("note: "));
+  const Run info = run_cli("info " + s.path("welded.off"));
+  CHECK_THAT(info.output, Catch::Contains("components:              1"));
+  CHECK_THAT(info.output, Catch::Contains("closed"));
+  // encode takes the same flag.
+  const Run encode = run_cli("encode " + input + " -o " + s.path("welded.mlz") + " --weld");
+  CHECK(encode.exit_code == 0);
+  CHECK_THAT(encode.output, Catch::Contains("welded: 16 coincident vertices joined"));
+  CHECK(s.temporaries().empty());
+}
+
 TEST_CASE("CLI: coordinates near the float limits round trip and beyond them nothing is written", "[cli][hostile]") {
   Scratch s("float_limits");
   // Near the largest and smallest normal floats: the codec keeps them finite.
