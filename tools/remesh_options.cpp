@@ -6,6 +6,8 @@
 
 #include "commands.h"
 #include "meshlift/metric.h"
+#include "meshlift/validate.h"
+#include "meshlift/weld.h"
 #include "progress.h"
 
 namespace meshlift::cli {
@@ -112,12 +114,17 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  : ("; " + std::to_string(result.flipped_where_input_crosses) +
                     " of the flipped triangles are there, where no orientation faces both sheets")
                        .c_str());
-  if (result.coincident_vertices > 0)
+  if (result.coincident_vertices > 0) {
+    // Whether --weld would help: joined, is the mesh still one the remesher takes?
+    const std::string welded_problem = first_problem_for_triangle_codec(validate_mesh(weld_coincident(input).mesh));
     std::fprintf(stderr,
                  "%s: note: %zu vertices lie exactly on other vertices without sharing their faces (an unwelded seam "
-                 "or pieces): the remesh keeps both sides apart, as boundaries; weld coincident vertices first (--weld) for one "
-                 "surface\n",
-                 path.c_str(), result.coincident_vertices);
+                 "or pieces, or parts that only touch): the remesh keeps them apart%s%s\n",
+                 path.c_str(), result.coincident_vertices,
+                 welded_problem.empty() ? "; --weld joins them first (a seam then closes)"
+                                        : "; joined they would not make a mesh the remesher takes: ",
+                 welded_problem.c_str());
+  }
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
                path.c_str(), d.psnr_db(), d.rms_relative(), d.hausdorff_relative());
