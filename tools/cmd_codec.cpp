@@ -86,7 +86,7 @@ int run_encode(const EncodeArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
   const std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
-  const TriangleMesh input = triangles_of(a.input, *loaded, a.remesh.weld);
+  const TriangleMesh input = triangles_of(a.input, *loaded, {a.remesh.weld, a.remesh.orient});
   const std::string problem = first_problem_for_triangle_codec(validate_mesh(input));
   if (!problem.empty()) {
     std::cerr << "meshlift: " << a.input << ": " << problem << "\n";

@@ -307,7 +307,7 @@ class Sweep {
     if (!loaded) return add(failed(base, "cannot read " + input + " as a mesh"));
     base.input_vertices = loaded->vertex_count();
     try {
-      reference.mesh = triangles_of(input, *loaded, options_.remesh.weld);
+      reference.mesh = triangles_of(input, *loaded, {options_.remesh.weld, options_.remesh.orient});
     } catch (const MeshError& e) {
       return add(failed(base, e.what()));
     }

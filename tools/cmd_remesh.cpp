@@ -27,7 +27,7 @@ int run_remesh(const RemeshArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
   const std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
-  const TriangleMesh input = triangles_of(a.input, *loaded, a.remesh.weld);
+  const TriangleMesh input = triangles_of(a.input, *loaded, {a.remesh.weld, a.remesh.orient});
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<RemeshResult> result = remesh_for_cli(a.input, input, a.remesh);
   if (!result) return kBadInput;

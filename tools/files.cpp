@@ -68,7 +68,7 @@ std::optional<PolygonMesh> load_mesh(const std::string& path) {
   }
 }
 
-TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, bool weld) {
+TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, InputRepairs repairs) {
   TriangleMesh triangles;
   if (mesh.is_triangle_mesh()) {
     triangles = to_triangle_mesh(mesh);
@@ -77,13 +77,26 @@ TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, bool
     std::cerr << "meshlift: " << path << ": " << describe(t) << "\n";
     triangles = std::move(t.mesh);
   }
-  if (!weld) return triangles;
-  Welding w = weld_coincident(triangles);
-  std::string note = "welded: " + std::to_string(w.joined_vertices) + " coincident vertices joined";
-  if (w.dropped_faces > 0) note += "; " + std::to_string(w.dropped_faces) + " faces left with no area dropped";
-  if (w.duplicate_faces > 0) note += "; " + std::to_string(w.duplicate_faces) + " faces that became copies of others dropped";
-  std::cerr << "meshlift: " << path << ": " << note << "\n";
-  return std::move(w.mesh);
+  if (repairs.weld) {
+    Welding w = weld_coincident(triangles);
+    std::string note = "welded: " + std::to_string(w.joined_vertices) + " coincident vertices joined";
+    if (w.dropped_faces > 0) note += "; " + std::to_string(w.dropped_faces) + " faces left with no area dropped";
+    if (w.duplicate_faces > 0)
+      note += "; " + std::to_string(w.duplicate_faces) + " faces that became copies of others dropped";
+    std::cerr << "meshlift: " << path << ": " << note << "\n";
+    triangles = std::move(w.mesh);
+  }
+  if (repairs.orient) {
+    Orientation o = orient_consistently(triangles);
+    std::string note = "oriented: " + std::to_string(o.flipped_faces) + " faces turned over in " +
+                       std::to_string(o.fixed_components) + " components";
+    if (o.unorientable_components > 0)
+      note += "; " + std::to_string(o.unorientable_components) +
+              " components cannot be oriented (a Moebius strip, or an edge of three or more faces): left as they were";
+    std::cerr << "meshlift: " << path << ": " << note << "\n";
+    triangles = std::move(o.mesh);
+  }
+  return triangles;
 }
 
 std::string describe(const Triangulation& t) {

@@ -11,6 +11,7 @@
 
 #include "meshlift/mesh.h"
 #include "meshlift/triangulate.h"
+#include "meshlift/orient.h"
 #include "meshlift/weld.h"
 
 namespace meshlift::cli {
@@ -41,9 +42,13 @@ std::optional<PolygonMesh> load_mesh(const std::string& path);
 /// `mesh` as triangles: as it is, or with its other faces split by triangulate() (triangulate.h)
 /// and a note on standard error (`meshlift: PATH: 6 quads and 0 larger polygons split into 12
 /// triangles`, how many had no ear and were split as fans, and how many faces of fewer than 3
-/// corners were left out). With `weld`, then the vertices at exactly the same position joined
-/// (weld.h), with a note (`meshlift: PATH: welded: N coincident vertices joined ...`).
-TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, bool weld = false);
+/// corners were left out). Then the repairs asked for, each with a note: `weld`, the vertices at
+/// exactly the same position joined (weld.h; `meshlift: PATH: welded: N coincident vertices
+/// joined ...`); `orient`, the faces turned to agree (orient.h; `meshlift: PATH: oriented: ...`).
+struct InputRepairs {
+  bool weld = false, orient = false;
+};
+TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, InputRepairs repairs = {});
 /// That note's text for a triangulation: `6 quads and 0 larger polygons split into 12 triangles`, ...
 std::string describe(const Triangulation& t);
 

@@ -56,6 +56,9 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
   cmd.add_flag("--weld", options.weld,
                "join the input's vertices that sit at exactly the same position first (files whose pieces or UV "
                "seams have vertices of their own: otherwise each side of such a seam stays a boundary)");
+  cmd.add_flag("--orient", options.orient,
+               "turn faces over until every edge is run opposite ways by its two faces (files whose faces were "
+               "written in either turn; closed pieces then face outwards), after --weld");
 }
 
 RemeshOptions to_remesh_options(const RemeshCliOptions& options) {

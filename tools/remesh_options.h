@@ -17,7 +17,7 @@ struct RemeshCliOptions {
   std::string fit = "loop";
   int least_squares_rounds = RemeshOptions{}.least_squares_rounds;
   double feature_angle = RemeshOptions{}.feature_angle;
-  bool weld = false;
+  bool weld = false, orient = false;
 };
 
 /// Adds `method_flag` (--method for remesh, --remesh for encode), --levels, --base-vertices and

@@ -197,6 +197,23 @@ TEST_CASE("CLI: --weld joins an unwelded cube's faces into one closed surface be
   CHECK(s.temporaries().empty());
 }
 
+TEST_CASE("CLI: --orient turns over the faces written the other way, where remesh refused them", "[cli][hostile]") {
+  Scratch s("orient");
+  // An octahedron with two faces written in the other turn.
+  const std::string input = s.file("shuffled.off",
+                                   "OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
+                                   "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 4 3 0\n3 2 0 5\n3 1 2 5\n3 5 1 3\n3 3 0 5\n");
+  const Run refused = run_cli("remesh " + input + " -o " + s.path("out.off"));
+  CHECK(refused.exit_code == 3);
+  CHECK_THAT(refused.output, Catch::Contains("orientation is inconsistent"));
+  const Run oriented = run_cli("remesh " + input + " -o " + s.path("out.off") + " --orient");
+  INFO(oriented.output);
+  CHECK(oriented.exit_code == 0);
+  CHECK_THAT(oriented.output, Catch::Contains("shuffled.off: oriented: 2 faces turned over in 1 components"));
+  CHECK_THAT(run_cli("info " + s.path("out.off")).output, Catch::Contains("consistently oriented:   yes"));
+  CHECK(s.temporaries().empty());
+}
+
 TEST_CASE("CLI: coordinates near the float limits round trip and beyond them nothing is written", "[cli][hostile]") {
   Scratch s("float_limits");
   // Near the largest and smallest normal floats: the codec keeps them finite.
