@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "meshlift/metric.h"
+#include "meshlift/orient.h"
 #include "meshlift/validate.h"
 #include "meshlift/weld.h"
 #include "progress.h"
@@ -118,15 +119,19 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                     " of the flipped triangles are there, where no orientation faces both sheets")
                        .c_str());
   if (result.coincident_vertices > 0) {
-    // Whether --weld would help: joined, is the mesh still one the remesher takes?
-    const std::string welded_problem = first_problem_for_triangle_codec(validate_mesh(weld_coincident(input).mesh));
+    // Whether --weld would help: joined (and turned to agree, if need be), is the mesh still one
+    // the remesher takes?
+    const TriangleMesh welded = weld_coincident(input).mesh;
+    std::string advice = "; --weld joins them first (a seam then closes)";
+    if (const std::string problem = first_problem_for_triangle_codec(validate_mesh(welded)); !problem.empty()) {
+      advice = first_problem_for_triangle_codec(validate_mesh(orient_consistently(welded).mesh)).empty()
+                   ? "; --weld --orient joins them and turns the pieces to agree"
+                   : "; joined they would not make a mesh the remesher takes: " + problem;
+    }
     std::fprintf(stderr,
                  "%s: note: %zu vertices lie exactly on other vertices without sharing their faces (an unwelded seam "
-                 "or pieces, or parts that only touch): the remesh keeps them apart%s%s\n",
-                 path.c_str(), result.coincident_vertices,
-                 welded_problem.empty() ? "; --weld joins them first (a seam then closes)"
-                                        : "; joined they would not make a mesh the remesher takes: ",
-                 welded_problem.c_str());
+                 "or pieces, or parts that only touch): the remesh keeps them apart%s\n",
+                 path.c_str(), result.coincident_vertices, advice.c_str());
   }
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
