@@ -24,6 +24,7 @@ struct Orientation {
 /// takes the turn of positive signed volume (faces facing outwards) and an open one the turn most
 /// of its faces had (fewest flips). Deterministic; a consistently oriented mesh comes back
 /// unchanged.
+/// \pre every index of `mesh.triangles` is below its vertex count (read_mesh guarantees it).
 Orientation orient_consistently(const TriangleMesh& mesh);
 
 }  // namespace meshlift

@@ -24,6 +24,7 @@ struct Welding {
 /// the same vertex twice is dropped, and so is a face that becomes a copy of an earlier one (two
 /// pieces that both held it); a face and its reverse are both kept, for the validation to name.
 /// Vertices no face uses are kept (as in the input).
+/// \pre every index of `mesh.triangles` is below its vertex count (read_mesh guarantees it).
 Welding weld_coincident(const TriangleMesh& mesh);
 
 }  // namespace meshlift
