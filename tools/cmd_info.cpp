@@ -103,13 +103,25 @@ int run_info(const InfoOptions& options) {
   MeshReport report = validate_mesh(*mesh);
   add_self_intersections(*mesh, report);
   std::cout << (options.json ? to_json(report) : to_text(report));
-  if (!options.json && report.non_triangle_faces > 0 && report.invalid_index_faces == 0) {
+  if (options.json || report.invalid_index_faces > 0) return kOk;
+  TriangleMesh triangles;
+  if (report.non_triangle_faces > 0) {
     // What encode and remesh take: the polygons split into triangles (triangulate.h).
-    const Triangulation t = triangulate(*mesh);
+    Triangulation t = triangulate(*mesh);
     const std::string problem = first_problem_for_triangle_codec(validate_mesh(t.mesh));
     std::cout << "as encode takes it:      " << describe(t) << "; triangle codec "
               << (problem.empty() ? std::string("ok") : problem) << "\n";
+    triangles = std::move(t.mesh);
+  } else {
+    triangles = to_triangle_mesh(*mesh);
   }
+  // Which of remesh's and encode's input repairs would help (coincident vertices, faces turned).
+  const MeshReport triangle_report = validate_mesh(triangles);
+  const RepairAdvice advice = repair_advice(triangles, triangle_report);
+  if (!advice.flags.empty())
+    std::cout << "with " << advice.flags << ":" << std::string(advice.flags.size() < 19 ? 19 - advice.flags.size() : 1, ' ')
+              << "triangle codec " << (advice.problem.empty() ? std::string("ok") : advice.problem)
+              << " (remesh, encode and rd take the flag)\n";
   return kOk;
 }
 

@@ -77,26 +77,51 @@ TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, Inpu
     std::cerr << "meshlift: " << path << ": " << describe(t) << "\n";
     triangles = std::move(t.mesh);
   }
+  std::vector<std::string> notes;
+  triangles = repaired(std::move(triangles), repairs, &notes);
+  for (const std::string& note : notes) std::cerr << "meshlift: " << path << ": " << note << "\n";
+  return triangles;
+}
+
+TriangleMesh repaired(TriangleMesh mesh, InputRepairs repairs, std::vector<std::string>* notes) {
+  auto say = [&](const std::string& note) {
+    if (notes) notes->push_back(note);
+  };
   if (repairs.weld) {
-    Welding w = weld_coincident(triangles);
+    Welding w = weld_coincident(mesh);
     std::string note = "welded: " + std::to_string(w.joined_vertices) + " coincident vertices joined";
     if (w.dropped_faces > 0) note += "; " + std::to_string(w.dropped_faces) + " faces left with no area dropped";
     if (w.duplicate_faces > 0)
       note += "; " + std::to_string(w.duplicate_faces) + " faces that became copies of others dropped";
-    std::cerr << "meshlift: " << path << ": " << note << "\n";
-    triangles = std::move(w.mesh);
+    say(note);
+    mesh = std::move(w.mesh);
   }
   if (repairs.orient) {
-    Orientation o = orient_consistently(triangles);
+    Orientation o = orient_consistently(mesh);
     std::string note = "oriented: " + std::to_string(o.flipped_faces) + " faces turned over in " +
                        std::to_string(o.fixed_components) + " components";
     if (o.unorientable_components > 0)
       note += "; " + std::to_string(o.unorientable_components) +
               " components cannot be oriented (a Moebius strip, or an edge of three or more faces): left as they were";
-    std::cerr << "meshlift: " << path << ": " << note << "\n";
-    triangles = std::move(o.mesh);
+    say(note);
+    mesh = std::move(o.mesh);
   }
-  return triangles;
+  return mesh;
+}
+
+RepairAdvice repair_advice(const TriangleMesh& mesh, const MeshReport& report) {
+  const bool coincident = report.duplicate_vertices > 0, turned = report.inconsistent_edges > 0;
+  std::vector<InputRepairs> tries;
+  if (coincident) tries.push_back({true, false});
+  if (turned) tries.push_back({false, true});
+  if (coincident) tries.push_back({true, true});
+  RepairAdvice advice;
+  for (const InputRepairs r : tries) {
+    advice.flags = r.weld && r.orient ? "--weld --orient" : r.weld ? "--weld" : "--orient";
+    advice.problem = first_problem_for_triangle_codec(validate_mesh(repaired(mesh, r)));
+    if (advice.problem.empty()) break;
+  }
+  return advice;
 }
 
 std::string describe(const Triangulation& t) {

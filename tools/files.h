@@ -11,6 +11,7 @@
 
 #include "meshlift/mesh.h"
 #include "meshlift/triangulate.h"
+#include "meshlift/validate.h"
 #include "meshlift/orient.h"
 #include "meshlift/weld.h"
 
@@ -49,6 +50,17 @@ struct InputRepairs {
   bool weld = false, orient = false;
 };
 TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, InputRepairs repairs = {});
+/// `mesh` with the repairs asked for, in that order (weld, then orient); each adds its note.
+TriangleMesh repaired(TriangleMesh mesh, InputRepairs repairs, std::vector<std::string>* notes = nullptr);
+/// For a mesh whose vertices coincide or whose faces disagree in turn (`report` is its
+/// validation): the first of --weld (where vertices coincide), --orient (where faces disagree) and
+/// --weld --orient (where vertices coincide) after which it is a mesh the remesher takes, in
+/// `flags` with `problem` empty; else the last one tried and the problem it leaves (`flags`
+/// empty when neither repair applies).
+struct RepairAdvice {
+  std::string flags, problem;
+};
+RepairAdvice repair_advice(const TriangleMesh& mesh, const MeshReport& report);
 /// That note's text for a triangulation: `6 quads and 0 larger polygons split into 12 triangles`, ...
 std::string describe(const Triangulation& t);
 

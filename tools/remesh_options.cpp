@@ -6,9 +6,8 @@
 
 #include "commands.h"
 #include "meshlift/metric.h"
-#include "meshlift/orient.h"
+#include "files.h"
 #include "meshlift/validate.h"
-#include "meshlift/weld.h"
 #include "progress.h"
 
 namespace meshlift::cli {
@@ -121,17 +120,15 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
   if (result.coincident_vertices > 0) {
     // Whether --weld would help: joined (and turned to agree, if need be), is the mesh still one
     // the remesher takes?
-    const TriangleMesh welded = weld_coincident(input).mesh;
-    std::string advice = "; --weld joins them first (a seam then closes)";
-    if (const std::string problem = first_problem_for_triangle_codec(validate_mesh(welded)); !problem.empty()) {
-      advice = first_problem_for_triangle_codec(validate_mesh(orient_consistently(welded).mesh)).empty()
-                   ? "; --weld --orient joins them and turns the pieces to agree"
-                   : "; joined they would not make a mesh the remesher takes: " + problem;
-    }
+    const RepairAdvice advice = repair_advice(input, validate_mesh(input));
     std::fprintf(stderr,
                  "%s: note: %zu vertices lie exactly on other vertices without sharing their faces (an unwelded seam "
-                 "or pieces, or parts that only touch): the remesh keeps them apart%s\n",
-                 path.c_str(), result.coincident_vertices, advice.c_str());
+                 "or pieces, or parts that only touch): the remesh keeps them apart%s%s\n",
+                 path.c_str(), result.coincident_vertices,
+                 !advice.problem.empty()             ? "; joined they would not make a mesh the remesher takes: "
+                 : advice.flags == "--weld"          ? "; --weld joins them first (a seam then closes)"
+                                                     : "; --weld --orient joins them and turns the pieces to agree",
+                 advice.problem.c_str());
   }
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",

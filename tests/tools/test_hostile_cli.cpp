@@ -182,6 +182,7 @@ TEST_CASE("CLI: --weld joins an unwelded cube's faces into one closed surface be
   REQUIRE(apart.exit_code == 0);
   CHECK_THAT(apart.output, Catch::Contains("note: 16 vertices lie exactly on other vertices"));
   CHECK_THAT(run_cli("info " + s.path("apart.off")).output, Catch::Contains("components:              6"));
+  CHECK_THAT(run_cli("info " + input).output, Catch::Contains("with --weld:             triangle codec ok"));
   const Run welded = run_cli("remesh " + input + " -o " + s.path("welded.off") + " --weld");
   INFO(welded.output);
   REQUIRE(welded.exit_code == 0);
@@ -206,6 +207,7 @@ TEST_CASE("CLI: --orient turns over the faces written the other way, where remes
   const Run refused = run_cli("remesh " + input + " -o " + s.path("out.off"));
   CHECK(refused.exit_code == 3);
   CHECK_THAT(refused.output, Catch::Contains("orientation is inconsistent"));
+  CHECK_THAT(run_cli("info " + input).output, Catch::Contains("with --orient:           triangle codec ok"));
   const Run oriented = run_cli("remesh " + input + " -o " + s.path("out.off") + " --orient");
   INFO(oriented.output);
   CHECK(oriented.exit_code == 0);
