@@ -63,7 +63,7 @@ TEST_CASE("orient: a closed mesh with faces written in either turn faces outward
   CHECK(c.mesh.triangles == inwards.triangles);
 }
 
-TEST_CASE("orient: an open mesh keeps its majority's turn; a Moebius strip and a fin are left alone", "[orient]") {
+TEST_CASE("orient: an open mesh keeps its majority's turn, a Moebius strip and a fin are left alone", "[orient]") {
   const TriangleMesh grid = test::grid(6);
   TriangleMesh g = grid;
   turn_over(g, 0);

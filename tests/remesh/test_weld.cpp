@@ -57,7 +57,7 @@ TEST_CASE("weld: a cube of unwelded faces becomes one closed surface", "[weld]")
   CHECK(again.mesh.triangles == w.mesh.triangles);
 }
 
-TEST_CASE("weld: -0 and +0 meet, NaN never does; faces left without area or copied are dropped", "[weld]") {
+TEST_CASE("weld: -0 and +0 meet, NaN never does, and faces left without area or copied are dropped", "[weld]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   TriangleMesh m;
   m.positions = {0, 0, 0,  1, 0, 0,  0, 1, 0,  -0.0, 0, 0,  1, 0, 0,  nan, 0, 0,  nan, 0, 0,  0, 1, 0};
