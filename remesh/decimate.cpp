@@ -255,6 +255,15 @@ void check_options(const DecimateOptions& options) {
                                 std::to_string(options.min_aspect_ratio));
 }
 
+/// check_options() and the indices that need the mesh.
+void check_options(const DecimateOptions& options, const TriangleMesh& mesh) {
+  check_options(options);
+  for (const std::uint32_t v : options.keep)
+    if (v >= mesh.vertex_count())
+      throw std::invalid_argument("decimate: keep names vertex " + std::to_string(v) + " of " +
+                                  std::to_string(mesh.vertex_count()));
+}
+
 MeshReport checked_report(const TriangleMesh& mesh) {
   MeshReport report = validate_mesh(mesh);
   if (const std::string problem = first_problem_for_triangle_codec(report); !problem.empty()) throw MeshError(problem);
@@ -361,7 +370,7 @@ class Snapshots : public OpenMesh::Decimater::Observer {
 /// topological floor), in one run; options.target_vertices is not read.
 std::vector<DecimateResult> decimate_to_targets(const TriangleMesh& mesh, const DecimateOptions& options,
                                                 std::span<const std::size_t> targets) {
-  check_options(options);
+  check_options(options, mesh);
   const MeshReport report = checked_report(mesh);
   const Components components = find_components(mesh, report);
 
@@ -422,6 +431,8 @@ std::vector<DecimateResult> decimate_to_targets(const TriangleMesh& mesh, const 
     // The binary modules are asked in the order added, and the first refusal ends it: the
     // cheapest first (the outcome is the same in any order: each only vetoes).
     decimater.add(quadric);
+    for (const std::uint32_t v : options.keep)  // is_collapse_legal() refuses to move a locked vertex
+      if (handle[v].is_valid()) half_edge.status(handle[v]).set_locked(true);
     decimater.add(component_floor);
     decimater.module(component_floor).set_components(component_of_handle, floor);
     if (options.feature_lines && !options.feature_lines->empty()) {

@@ -28,6 +28,7 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <string>
 
@@ -45,6 +46,7 @@
 #include "meshlift/surface_fit.h"
 #include "meshlift/untangle.h"
 #include "meshlift/validate.h"
+#include "vec3.h"
 
 namespace meshlift {
 
@@ -472,6 +474,51 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     note_crossings(r);
     return r.flipped_triangles == r.flipped_where_input_crosses && r.degenerate_triangles == 0;
   };
+  // RemeshOptions::missing_part_rounds: where the decimation stopped above its target, the input
+  // vertices far from the remesh are kept in the base and the remesh made again while closer.
+  auto keep_missing_parts = [&](RemeshResult& result) {
+    if (result.method != RemeshMethod::decimate || result.recognized) return;
+    const std::size_t target = options.base_vertices != 0 ? options.base_vertices : base_size(result.density);
+    if (result.base_vertices <= target) return;
+    const FeatureLines& with = result.feature_edges > 0 ? lines : no_lines;
+    const double diagonal = checked.bbox_diagonal;
+    std::vector<std::uint32_t> keep;
+    double result_db = 0;
+    for (int round = 0; round < options.missing_part_rounds; ++round) {
+      StageClock clock(stages);
+      // Input vertices by their distance to the remesh, farthest first; the far ones, spaced out.
+      const SurfaceQuery remeshed(result.mesh.finest());
+      std::vector<double> distance(mesh.vertex_count(), 0);
+      for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+        distance[v] = remeshed.closest(vec3::at(mesh.positions, v)).distance;
+      std::vector<std::uint32_t> order(mesh.vertex_count());
+      std::iota(order.begin(), order.end(), 0u);
+      std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return distance[a] > distance[b]; });
+      const std::size_t before = keep.size();
+      for (const std::uint32_t v : order) {
+        if (!(distance[v] > options.missing_part_distance * diagonal) || keep.size() == before + 8) break;
+        bool apart = true;
+        for (std::size_t k = before; k < keep.size() && apart; ++k) {
+          const vec3::Vec3 d = vec3::sub(vec3::at(mesh.positions, v), vec3::at(mesh.positions, keep[k]));
+          apart = vec3::dot(d, d) > 0.05 * 0.05 * diagonal * diagonal;
+        }
+        if (apart) keep.push_back(v);
+      }
+      if (keep.size() == before) return;
+      DecimateOptions one = decimate_options(with);
+      one.target_vertices = target;
+      one.keep = keep;
+      const DecimateResult decimated = decimate(mesh, one);
+      clock.lap("missing parts: decimate");
+      RemeshResult again = std::move(*remesh_base(decimated, result.density, 1, 1, with));
+      if (result_db == 0) result_db = psnr(result);
+      const double again_db = psnr(again);
+      if (!(again_db > result_db) || again.flipped_triangles > result.flipped_triangles) return;
+      again.kept_vertices = keep.size();
+      result = std::move(again);
+      result_db = again_db;
+    }
+  };
   RemeshResult result = [&] {
     if (options.base_vertices != 0 || options.density != 0) {
       // by_decimation() takes base_vertices first. With feature lines, the remesh with them and
@@ -635,6 +682,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       if (m.remesh && (!closest || m.psnr >= closest->psnr)) closest = &m;
     return std::move(*closest->remesh);
   }();
+  keep_missing_parts(result);
   result.stage_seconds = std::move(stages);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
     // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.

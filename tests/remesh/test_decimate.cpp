@@ -331,6 +331,26 @@ TEST_CASE("decimate: bumpy icosphere to 200 vertices", "[decimate]") {
   REQUIRE(again.base.triangles == result.base.triangles);
 }
 
+TEST_CASE("decimate: the vertices it is asked to keep stay in the base", "[decimate]") {
+  const TriangleMesh input = icosphere(4, 0.1);
+  DecimateOptions options{.target_vertices = 100};
+  const DecimateResult plain = decimate(input, options);
+  // Vertices the plain decimation removes: asked to keep them, it keeps them and still reaches
+  // its target.
+  std::vector<std::uint32_t> removed;
+  for (std::uint32_t v = 0; v < input.vertex_count() && removed.size() < 5; v += 97)
+    if (!std::binary_search(plain.original_vertex.begin(), plain.original_vertex.end(), v)) removed.push_back(v);
+  REQUIRE(removed.size() == 5);
+  options.keep = removed;
+  const DecimateResult kept = decimate(input, options);
+  CHECK(kept.base.vertex_count() == 100);
+  for (const std::uint32_t v : removed)
+    CHECK(std::binary_search(kept.original_vertex.begin(), kept.original_vertex.end(), v));
+  CHECK(first_problem_for_triangle_codec(validate_mesh(kept.base)).empty());
+  options.keep = {static_cast<std::uint32_t>(input.vertex_count())};
+  CHECK_THROWS_AS(decimate(input, options), std::invalid_argument);
+}
+
 TEST_CASE("decimate_each: one run gives every target's decimate() result, byte for byte", "[decimate]") {
   const TriangleMesh input = icosphere(5, 0.1);  // 10242 vertices
   // Unsorted, repeated, at the input's size and beyond, and below where a 12-vertex floor of

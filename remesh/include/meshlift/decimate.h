@@ -38,6 +38,9 @@ struct DecimateOptions {
   /// corners stay in the base, and their other vertices collapse only along them, so the base
   /// keeps each line as a chain of its own vertices. Not owned: must outlive the call.
   const FeatureLines* feature_lines = nullptr;
+  /// Input vertices the base must keep (never collapsed away); each below the input's vertex
+  /// count. remesh() keeps those of parts a first remesh missed.
+  std::vector<std::uint32_t> keep{};
 };
 
 struct DecimateResult {

@@ -112,6 +112,16 @@ struct RemeshOptions {
   std::size_t feature_min_edges = 5;
   double feature_max_turn = 30;
   double feature_max_side = 10;
+  /// Parts the base missed: where the decimation stops above the base size asked for (its checks
+  /// refuse every further collapse: deep hierarchies, small inputs), a larger density cannot
+  /// give a different base, and a thin part collapsed away is missing from the remesh
+  /// (elephant's feet at L = 4: 59.7 dB). Then, up to this many rounds: the input vertices
+  /// farther than missing_part_distance (of the bounding-box diagonal) from the remesh, at most
+  /// 8 a round and 5 % of the diagonal apart, are kept in the base (DecimateOptions::keep) and the
+  /// remesh made again, kept if it is closer to the input and folds no more (elephant at L = 4:
+  /// 76.8 dB; docs/RESULTS.md). 0 turns it off.
+  int missing_part_rounds = 2;
+  double missing_part_distance = 2e-3;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
   /// (the corpus's camel is one) leaves too coarse a base for the wavelets, so such a mesh is
@@ -155,6 +165,9 @@ struct RemeshResult {
   /// Input vertices at exactly the position of another (validate.h's duplicate_vertices): an
   /// unwelded seam or pieces, which the remesh keeps apart (each side of a seam a boundary).
   std::size_t coincident_vertices = 0;
+  /// Input vertices kept in the base because a first remesh missed their part
+  /// (RemeshOptions::missing_part_rounds); 0 when none were.
+  std::size_t kept_vertices = 0;
   /// Wall-clock seconds per stage, in pipeline order ("decimate", "fit base", "guides", "place
   /// and compare", "least squares and untangle", then "choose density" with the automatic
   /// density, whose remeshes each list their stages, "decimate" only where a decimation ran (one
