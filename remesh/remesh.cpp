@@ -483,6 +483,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     const FeatureLines& with = result.feature_edges > 0 ? lines : no_lines;
     const double diagonal = checked.bbox_diagonal;
     std::vector<std::uint32_t> keep;
+    std::vector<char> used(mesh.vertex_count(), 0);
+    for (const std::uint32_t v : mesh.triangles) used[v] = 1;
     double result_db = 0;
     for (int round = 0; round < options.missing_part_rounds; ++round) {
       StageClock clock(stages);
@@ -497,6 +499,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       const std::size_t before = keep.size();
       for (const std::uint32_t v : order) {
         if (!(distance[v] > options.missing_part_distance * diagonal) || keep.size() == before + 8) break;
+        // A vertex no face uses is no part of the surface; one kept already did not help.
+        if (!used[v] || std::find(keep.begin(), keep.end(), v) != keep.end()) continue;
         bool apart = true;
         for (std::size_t k = before; k < keep.size() && apart; ++k) {
           const vec3::Vec3 d = vec3::sub(vec3::at(mesh.positions, v), vec3::at(mesh.positions, keep[k]));
