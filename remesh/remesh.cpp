@@ -46,6 +46,7 @@
 #include "meshlift/surface_fit.h"
 #include "meshlift/untangle.h"
 #include "meshlift/validate.h"
+#include "parallel.h"
 #include "vec3.h"
 
 namespace meshlift {
@@ -488,19 +489,45 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     double result_db = 0;
     for (int round = 0; round < options.missing_part_rounds; ++round) {
       StageClock clock(stages);
-      // Input vertices by their distance to the remesh, farthest first; the far ones, spaced out.
-      const SurfaceQuery remeshed(result.mesh.finest());
-      std::vector<double> distance(mesh.vertex_count(), 0);
+      // Where the remesh and the input part, farthest first: input vertices far from the remesh
+      // (a part it passed by: elephant's foot), and, for remesh faces far from the input (a sheet
+      // across a gap: turbine's blades at L = 4), the nearest corner of the input face closest to
+      // them. The far ones are kept, spaced out.
+      const TriangleMesh finest = result.mesh.finest();
+      const SurfaceQuery remeshed(finest);
+      const double limit = options.missing_part_distance * diagonal;
+      std::vector<double> vertex_distance(mesh.vertex_count(), 0);
+      parallel_blocks(mesh.vertex_count(), 0, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v)
+          if (used[v]) vertex_distance[v] = remeshed.closest(vec3::at(mesh.positions, static_cast<std::uint32_t>(v))).distance;
+      });
+      std::vector<std::pair<double, std::uint32_t>> face_corner(finest.face_count(), {0.0, kNone});
+      parallel_blocks(finest.face_count(), 0, [&](std::size_t begin, std::size_t end) {
+        std::uint32_t hint = kNone;
+        for (std::size_t f = begin; f < end; ++f) {
+          const std::uint32_t* t = &finest.triangles[3 * f];
+          vec3::Vec3 centroid{0, 0, 0};
+          for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) centroid[k] += finest.positions[3 * std::size_t{t[i]} + k] / 3;
+          const SurfacePoint on = surface.closest(centroid, hint);
+          hint = on.face;
+          if (!(on.distance > limit)) continue;
+          const int corner = static_cast<int>(std::max_element(on.barycentric.begin(), on.barycentric.end()) - on.barycentric.begin());
+          face_corner[f] = {on.distance, mesh.triangles[3 * std::size_t{on.face} + corner]};
+        }
+      });
+      std::vector<std::pair<double, std::uint32_t>> far;
       for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
-        distance[v] = remeshed.closest(vec3::at(mesh.positions, v)).distance;
-      std::vector<std::uint32_t> order(mesh.vertex_count());
-      std::iota(order.begin(), order.end(), 0u);
-      std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return distance[a] > distance[b]; });
+        if (vertex_distance[v] > limit) far.push_back({vertex_distance[v], v});
+      for (const auto& candidate : face_corner)
+        if (candidate.second != kNone) far.push_back(candidate);
+      std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) {
+        return a.first != b.first ? a.first > b.first : a.second < b.second;
+      });
       const std::size_t before = keep.size();
-      for (const std::uint32_t v : order) {
-        if (!(distance[v] > options.missing_part_distance * diagonal) || keep.size() == before + 8) break;
-        // A vertex no face uses is no part of the surface; one kept already did not help.
-        if (!used[v] || std::find(keep.begin(), keep.end(), v) != keep.end()) continue;
+      for (const auto& [distance, v] : far) {
+        if (keep.size() == before + 8) break;
+        if (std::find(keep.begin(), keep.end(), v) != keep.end()) continue;  // kept already, and still far
         bool apart = true;
         for (std::size_t k = before; k < keep.size() && apart; ++k) {
           const vec3::Vec3 d = vec3::sub(vec3::at(mesh.positions, v), vec3::at(mesh.positions, keep[k]));
@@ -517,7 +544,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       RemeshResult again = std::move(*remesh_base(decimated, result.density, 1, 1, with));
       if (result_db == 0) result_db = psnr(result);
       const double again_db = psnr(again);
-      if (!(again_db > result_db) || again.flipped_triangles > result.flipped_triangles) return;
+      // Folds where the input passes through itself (no orientation faces both sheets) aside.
+      note_crossings(result);
+      note_crossings(again);
+      if (!(again_db > result_db) || again.flipped_triangles - again.flipped_where_input_crosses >
+                                          result.flipped_triangles - result.flipped_where_input_crosses)
+        return;
       again.kept_vertices = keep.size();
       result = std::move(again);
       result_db = again_db;

@@ -115,12 +115,15 @@ struct RemeshOptions {
   /// Parts the base missed: where the decimation stops above the base size asked for (its checks
   /// refuse every further collapse: deep hierarchies, small inputs), a larger density cannot
   /// give a different base, and a thin part collapsed away is missing from the remesh
-  /// (elephant's feet at L = 4: 59.7 dB). Then, up to this many rounds: the input vertices
-  /// farther than missing_part_distance (of the bounding-box diagonal) from the remesh, at most
-  /// 8 a round and 5 % of the diagonal apart, are kept in the base (DecimateOptions::keep) and the
-  /// remesh made again, kept if it is closer to the input and folds no more (elephant at L = 4:
-  /// 76.8 dB; docs/RESULTS.md). 0 turns it off.
-  int missing_part_rounds = 2;
+  /// (elephant's feet at L = 4: 59.7 dB), or a base face spans a gap that the remesh then
+  /// fills with a sheet (turbine's blades at L = 4: 53.7 dB, 17 folds). Then, up to this many
+  /// rounds: the input vertices farther than missing_part_distance (of the bounding-box
+  /// diagonal) from the remesh, and the input vertices nearest the remesh faces farther than
+  /// that from the input, at most 8 a round and 5 % of the diagonal apart, are kept in the base
+  /// (DecimateOptions::keep) and the remesh made again, kept if it is closer to the input and
+  /// folds no more away from the input's own crossings (elephant at L = 4: 76.8 dB; turbine
+  /// 81.1 dB, no fold; docs/RESULTS.md). 0 turns it off.
+  int missing_part_rounds = 3;
   double missing_part_distance = 2e-3;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
