@@ -109,8 +109,8 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  result.feature_edges, result.feature_vertices);
   if (result.kept_vertices > 0)
     std::fprintf(stderr,
-                 "%s: missing parts: the base stopped above its size and the remesh passed parts by; %zu input "
-                 "vertices there kept in the base\n",
+                 "%s: missing parts: the base stopped above its size and the remesh parted from the input; %zu "
+                 "input vertices there kept in the base\n",
                  path.c_str(), result.kept_vertices);
   std::fprintf(stderr, "%s: peak memory %.0f MiB\n", path.c_str(), peak_rss_mb());
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
