@@ -335,6 +335,8 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double d
 
 RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
+  if (options.missing_part_rounds < 0 || !(options.missing_part_distance >= 0))
+    throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
   if (std::isnan(options.give_up_margin)) throw MeshError("give_up_margin must be a number (infinity: never give up)");
   if (options.density != 0 && !(options.density >= 1 && options.density <= 1024))
     throw MeshError("density must be 0 (automatic) or in [1, 1024], got " + std::to_string(options.density));
@@ -476,7 +478,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     return r.flipped_triangles == r.flipped_where_input_crosses && r.degenerate_triangles == 0;
   };
   // RemeshOptions::missing_part_rounds: where the decimation stopped above its target, the input
-  // vertices far from the remesh are kept in the base and the remesh made again while closer.
+  // vertices where the remesh and the input part are kept in the base, and the remesh made again
+  // while that is closer and folds no more.
   auto keep_missing_parts = [&](RemeshResult& result) {
     if (result.method != RemeshMethod::decimate || result.recognized) return;
     const std::size_t target = options.base_vertices != 0 ? options.base_vertices : base_size(result.density);

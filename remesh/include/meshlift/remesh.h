@@ -175,7 +175,8 @@ struct RemeshResult {
   /// and compare", "least squares and untangle", then "choose density" with the automatic
   /// density, whose remeshes each list their stages, "decimate" only where a decimation ran (one
   /// for all its densities, with the feature lines and one without: decimate_each), and "place,
-  /// then give up" instead of the last two for a candidate given up (give_up_margin); "sphere"
+  /// then give up" instead of the last two for a candidate given up (give_up_margin); then, per
+  /// round of missing_part_rounds, "missing parts: decimate" and that remesh's stages; "sphere"
   /// for a sphere remesh): where a remesh spends its time (docs/RESULTS.md).
   std::vector<std::pair<std::string, double>> stage_seconds{};
 };
