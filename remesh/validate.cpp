@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "meshlift/self_intersection.h"
+#include "meshlift/weld.h"
 
 namespace meshlift {
 namespace {
@@ -119,16 +120,8 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   r.bbox_diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                               (hi[2] - lo[2]) * (hi[2] - lo[2]));
   {
-    std::vector<std::uint32_t> order;
-    order.reserve(vertex_count);
-    for (std::size_t v = 0; v < vertex_count; ++v)
-      if (finite[v]) order.push_back(static_cast<std::uint32_t>(v));
-    const auto less = [&](std::uint32_t a, std::uint32_t b) {
-      return std::lexicographical_compare(&p[3 * a], &p[3 * a + 3], &p[3 * b], &p[3 * b + 3]);
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (std::size_t i = 1; i < order.size(); ++i)
-      if (!less(order[i - 1], order[i])) ++r.duplicate_vertices;
+    const std::vector<std::uint32_t> first = first_at_same_position(p);  // weld.h
+    for (std::size_t v = 0; v < vertex_count; ++v) r.duplicate_vertices += first[v] != v;
   }
 
   // ---- faces: corner counts, index range, repeated indices -> usable ----

@@ -10,9 +10,8 @@
 
 namespace meshlift {
 
-Welding weld_coincident(const TriangleMesh& mesh) {
-  const std::vector<double>& p = mesh.positions;
-  const std::size_t n = mesh.vertex_count();
+std::vector<std::uint32_t> first_at_same_position(std::span<const double> p) {
+  const std::size_t n = p.size() / 3;
   // Sort the finite vertices by position (ties by index), and join each run of equal positions
   // into its lowest index.
   std::vector<std::uint32_t> order;
@@ -28,6 +27,13 @@ Welding weld_coincident(const TriangleMesh& mesh) {
   std::iota(into.begin(), into.end(), 0u);
   for (std::size_t i = 1; i < order.size(); ++i)
     if (!less(order[i - 1], order[i])) into[order[i]] = into[order[i - 1]];
+  return into;
+}
+
+Welding weld_coincident(const TriangleMesh& mesh) {
+  const std::vector<double>& p = mesh.positions;
+  const std::size_t n = mesh.vertex_count();
+  const std::vector<std::uint32_t> into = first_at_same_position(p);
 
   Welding w;
   // The vertices kept, renumbered in their order.

@@ -5,6 +5,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
 
 #include "meshlift/mesh.h"
 
@@ -18,6 +21,12 @@ struct Welding {
   std::size_t dropped_faces = 0;    ///< faces with two corners at the same position (no area)
   std::size_t duplicate_faces = 0;  ///< faces with the same corners, in the same turn, as an earlier one
 };
+
+/// For each vertex of the xyz array `positions`, the lowest index of a vertex at exactly the same
+/// position (coordinates equal as numbers: -0 and +0 alike); itself for the first there and for a
+/// non-finite position. The one definition of "coincident": validate_mesh() counts the vertices
+/// that are not their own (duplicate_vertices), weld_coincident() joins them.
+std::vector<std::uint32_t> first_at_same_position(std::span<const double> positions);
 
 /// Joins every vertex into the first one at exactly the same position (coordinates equal as
 /// numbers: -0 and +0 alike; non-finite positions are never joined). A face whose corners become
