@@ -74,6 +74,13 @@ constexpr std::size_t kChoiceSamples = 200'000;
 /// cost, about ±0.03 dB, against RemeshOptions::give_up_margin).
 constexpr std::size_t kQuickSamples = 20'000;
 
+/// The missing-parts step (RemeshOptions::missing_part_rounds) keeps at most this many input
+/// vertices a round, each at least kMissingPartSpacing of the diagonal from the others of its
+/// round: one or two per missed part (elephant's four feet at L = 4: 13 in all), not a cluster
+/// around the worst one. Measured on the corpus at L = 4 and 5 (docs/RESULTS.md).
+constexpr std::size_t kMissingPartsPerRound = 8;
+constexpr double kMissingPartSpacing = 0.05;
+
 /// PSNR of a mesh against the input on `samples` area samples a side.
 double remesh_psnr(const TriangleMesh& input, const TriangleMesh& remeshed, std::size_t samples = kChoiceSamples) {
   MetricOptions metric;
@@ -529,12 +536,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       });
       const std::size_t before = keep.size();
       for (const auto& [distance, v] : far) {
-        if (keep.size() == before + 8) break;
+        if (keep.size() == before + kMissingPartsPerRound) break;
         if (std::find(keep.begin(), keep.end(), v) != keep.end()) continue;  // kept already, and still far
         bool apart = true;
         for (std::size_t k = before; k < keep.size() && apart; ++k) {
           const vec3::Vec3 d = vec3::sub(vec3::at(mesh.positions, v), vec3::at(mesh.positions, keep[k]));
-          apart = vec3::dot(d, d) > 0.05 * 0.05 * diagonal * diagonal;
+          apart = vec3::dot(d, d) > kMissingPartSpacing * kMissingPartSpacing * diagonal * diagonal;
         }
         if (apart) keep.push_back(v);
       }
@@ -545,10 +552,13 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       const DecimateResult decimated = decimate(mesh, one);
       clock.lap("missing parts: decimate");
       RemeshResult again = std::move(*remesh_base(decimated, result.density, 1, 1, with));
-      if (result_db == 0) result_db = psnr(result);
+      // Folds where the input passes through itself (no orientation faces both sheets) aside; a
+      // remesh kept from an earlier round has both measures already.
+      if (result_db == 0) {
+        result_db = psnr(result);
+        note_crossings(result);
+      }
       const double again_db = psnr(again);
-      // Folds where the input passes through itself (no orientation faces both sheets) aside.
-      note_crossings(result);
       note_crossings(again);
       if (!(again_db > result_db) || again.flipped_triangles - again.flipped_where_input_crosses >
                                           result.flipped_triangles - result.flipped_where_input_crosses)
