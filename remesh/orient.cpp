@@ -86,7 +86,9 @@ Orientation orient_consistently(const TriangleMesh& mesh) {
     ++result.fixed_components;
     bool turn_over = false;
     if (closed) {
-      // Six times the signed volume, about the component's first corner (fewer digits lost).
+      // Six times the signed volume, Σ a · (b × c) over the faces (divergence theorem: each face
+      // with the apex at the origin is a signed tetrahedron), taken about the component's first
+      // corner (fewer digits lost); positive when the faces face outwards.
       const double* o = &mesh.positions[3 * std::size_t{t[3 * seed]}];
       double volume = 0;
       for (const std::uint32_t f : component) {
