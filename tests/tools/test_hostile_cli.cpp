@@ -191,6 +191,16 @@ TEST_CASE("CLI: --weld joins an unwelded cube's faces into one closed surface be
   const Run info = run_cli("info " + s.path("welded.off"));
   CHECK_THAT(info.output, Catch::Contains("components:              1"));
   CHECK_THAT(info.output, Catch::Contains("closed"));
+  // Two tetrahedra that only touch at a corner, each with a vertex of its own there: joined, that
+  // corner would be non-manifold, and the note says so instead of advising --weld.
+  const std::string touching = s.file("touching.off",
+                                      "OFF\n8 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 0\n-1 0 0\n0 -1 0\n0 0 -1\n"
+                                      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 4 5 6\n3 4 7 5\n3 4 6 7\n3 5 7 6\n");
+  const Run apart_tets = run_cli("remesh " + touching + " -o " + s.path("tets.off"));
+  INFO(apart_tets.output);
+  CHECK(apart_tets.exit_code == 0);
+  CHECK_THAT(apart_tets.output, Catch::Contains("note: 1 vertices lie exactly on other vertices"));
+  CHECK_THAT(apart_tets.output, Catch::Contains("joined they would not make a mesh the remesher takes: 1 non-manifold vertex"));
   // encode takes the same flag.
   const Run encode = run_cli("encode " + input + " -o " + s.path("welded.mlz") + " --weld");
   CHECK(encode.exit_code == 0);
