@@ -44,6 +44,7 @@
 #include "meshlift/self_intersection.h"
 #include "meshlift/spherical_parametrization.h"
 #include "meshlift/surface_fit.h"
+#include "meshlift/snap.h"
 #include "meshlift/untangle.h"
 #include "meshlift/validate.h"
 #include "parallel.h"
@@ -118,7 +119,8 @@ constexpr double kNowhere = std::numeric_limits<double>::infinity();
 
 /// From the decimated base: fit the base, build the guide, place the refinement on the surface
 /// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
-/// by least squares, untangle again. With --fit loop there are two guides; the placement that
+/// by least squares, with `snap` move it onto the input's corners and creases (snap.h), untangle
+/// again. With --fit loop there are two guides; the placement that
 /// folds fewest faces goes on, one with normal lines among equals, then the closer to the input.
 /// A candidate of the automatic density that could only be kept at `abandon_below` dB or more
 /// is given up after its first placement (nullopt) when that placement is so far from the input
@@ -131,7 +133,7 @@ constexpr double kNowhere = std::numeric_limits<double>::infinity();
 /// stops at its guides. kNever, kNowhere: never.
 std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface,
                                                  const DecimateResult& decimated, const FeatureLines& lines, int levels,
-                                                 BaseFit fit, int least_squares_rounds, double abandon_below,
+                                                 BaseFit fit, int least_squares_rounds, bool snap, double abandon_below,
                                                  double set_aside_at, double set_aside_guide_at, double give_up_margin,
                                                  double* placed_psnr,
                                                  const std::function<void(double)>& report,
@@ -212,6 +214,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
     std::optional<SemiRegularMesh> mesh;
     bool normal_lines = false;
     std::size_t flipped = 0, degenerate = 0;
+    SnapReport snapped{};
     std::size_t folds() const { return flipped + degenerate; }
     void count_folds(const SurfaceQuery& surface) {
       const FoldOvers found = find_fold_overs(mesh->finest(), surface);
@@ -258,6 +261,11 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
     least_squares.iterations = least_squares_rounds;
     least_squares.fixed = features.fixed;
     fit_least_squares(*placed.mesh, surface, least_squares);
+    if (snap) {
+      SnapOptions snapping;
+      snapping.fixed = features.fixed;
+      placed.snapped = snap_to_input(*placed.mesh, surface, snapping);
+    }
     std::vector<std::uint8_t> fixed = features.fixed;
     UntangleOptions untangle_options;
     untangle_options.fixed = fixed;
@@ -310,7 +318,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   } else {
     finish(placed);
   }
-  clock.lap("least squares and untangle");
+  clock.lap(snap ? "least squares, snap and untangle" : "least squares and untangle");
   report(0.9);
 
   RemeshResult result{std::move(*placed.mesh)};
@@ -319,6 +327,8 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   result.feature_vertices = features.count();
   result.flipped_triangles = placed.flipped;
   result.degenerate_triangles = placed.degenerate;
+  result.snapped_to_vertices = placed.snapped.onto_vertices;
+  result.snapped_to_creases = placed.snapped.onto_creases;
   report(1);
   return result;
 }
@@ -457,7 +467,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
                          const FeatureLines& with, double abandon_below = kNever, double* placed_psnr = nullptr,
                          double set_aside_at = kNowhere) {
     std::optional<RemeshResult> r = remesh_by_decimation(
-        mesh, surface, decimated, with, options.levels, options.fit, options.least_squares_rounds, abandon_below,
+        mesh, surface, decimated, with, options.levels, options.fit, options.least_squares_rounds, options.snap, abandon_below,
         set_aside_at, set_aside_at < kNowhere ? options.sparsest_guide_psnr : kNowhere, options.give_up_margin, placed_psnr,
         [&](double f) { report(from + (to - from) * f); }, stages);
     if (r) r->density = options.base_vertices != 0 ? 0 : density;

@@ -16,6 +16,7 @@ struct RemeshCliOptions {
   std::string density = "auto";
   std::string fit = "loop";
   int least_squares_rounds = RemeshOptions{}.least_squares_rounds;
+  bool snap = false;
   double feature_angle = RemeshOptions{}.feature_angle;
   bool weld = false, orient = false;
 };
