@@ -48,26 +48,30 @@ FeatureLines FeatureLines::from_edges(std::size_t vertices, const std::vector<st
 
 std::size_t FeaturePlacement::count() const { return static_cast<std::size_t>(std::count(fixed.begin(), fixed.end(), 1)); }
 
+std::vector<double> edge_turn_cosines(const TriangleMesh& mesh, const TriangleTopology& topology) {
+  // Unit face normals (zero for a degenerate face).
+  std::vector<Vec3> normal(mesh.face_count());
+  for (std::size_t f = 0; f < normal.size(); ++f) normal[f] = vec3::unit(vec3::face_normal(mesh.positions, &mesh.triangles[3 * f]));
+  std::vector<double> cosines(topology.edge_count(), 1.0);
+  for (std::size_t e = 0; e < cosines.size(); ++e) {
+    if (topology.is_boundary_edge(static_cast<std::uint32_t>(e))) continue;
+    const Vec3 &m = normal[topology.edge_faces[2 * e]], &n = normal[topology.edge_faces[2 * e + 1]];
+    if (vec3::dot(m, m) > 0 && vec3::dot(n, n) > 0) cosines[e] = vec3::dot(m, n);
+  }
+  return cosines;
+}
+
 FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degrees, std::size_t min_chain_edges,
                                 double max_turn_degrees, double max_side_degrees) {
   if (!(min_angle_degrees > 0 && min_angle_degrees < 180)) return {};
-  const std::size_t faces = mesh.face_count();
-  // Unit face normals (zero for a degenerate face: none of its edges is sharp).
-  std::vector<Vec3> normal(faces);
-  for (std::size_t f = 0; f < faces; ++f) normal[f] = vec3::unit(vec3::face_normal(mesh.positions, &mesh.triangles[3 * f]));
   const TriangleTopology topology = TriangleTopology::build(static_cast<std::uint32_t>(mesh.vertex_count()), mesh.triangles);
-  // The cosine of the turn across interior edge e (1 on a boundary edge or a degenerate face).
-  auto turn_cos = [&](std::size_t e) {
-    if (topology.is_boundary_edge(static_cast<std::uint32_t>(e))) return 1.0;
-    const Vec3 &m = normal[topology.edge_faces[2 * e]], &n = normal[topology.edge_faces[2 * e + 1]];
-    return vec3::dot(m, m) > 0 && vec3::dot(n, n) > 0 ? vec3::dot(m, n) : 1.0;
-  };
+  const std::vector<double> turn_cos = edge_turn_cosines(mesh, topology);
   // Sharp: the normals' angle above the threshold, cos(angle) < cos(threshold).
   const double cos_limit = std::cos(min_angle_degrees * std::numbers::pi / 180);
   std::vector<std::uint8_t> sharp(topology.edge_count(), 0);
   std::vector<std::array<std::uint32_t, 2>> sharp_edges;
   for (std::size_t e = 0; e < topology.edge_count(); ++e)
-    if (turn_cos(e) < cos_limit) {
+    if (turn_cos[e] < cos_limit) {
       sharp[e] = 1;
       sharp_edges.push_back({topology.edge_vertices[2 * e], topology.edge_vertices[2 * e + 1]});
     }
@@ -81,7 +85,7 @@ FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degre
     for (int side = 0; side < 2; ++side)
       for (int i = 0; i < 3; ++i) {
         const std::uint32_t other = topology.face_edges[3 * std::size_t{topology.edge_faces[2 * e + side]} + i];
-        if (other != e && !sharp[other]) smallest = std::min(smallest, turn_cos(other));
+        if (other != e && !sharp[other]) smallest = std::min(smallest, turn_cos[other]);
       }
     return smallest;
   };

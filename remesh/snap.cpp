@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "meshlift/features.h"
 #include "meshlift/surface_fit.h"
 #include "meshlift/topology.h"
 #include "adjacency.h"
@@ -74,16 +75,10 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
 
   // Input creases, per face corner slot: the edge from corner i to corner i + 1 of face f.
   const TriangleTopology topology = TriangleTopology::build(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
-  std::vector<Vec3> normal(input.face_count());
-  for (std::size_t f = 0; f < normal.size(); ++f) normal[f] = vec3::unit(vec3::face_normal(input.positions, &input.triangles[3 * f]));
+  const std::vector<double> turn_cos = edge_turn_cosines(input, topology);
   const double cos_crease = std::cos(options.crease_degrees * std::numbers::pi / 180);
   std::vector<std::uint8_t> crease(topology.face_edges.size(), 0);
-  for (std::size_t slot = 0; slot < crease.size(); ++slot) {
-    const std::uint32_t e = topology.face_edges[slot];
-    if (topology.is_boundary_edge(e)) continue;
-    const Vec3 &m = normal[topology.edge_faces[2 * e]], &n = normal[topology.edge_faces[2 * e + 1]];
-    crease[slot] = vec3::dot(m, m) > 0 && vec3::dot(n, n) > 0 && vec3::dot(m, n) < cos_crease;
-  }
+  for (std::size_t slot = 0; slot < crease.size(); ++slot) crease[slot] = turn_cos[topology.face_edges[slot]] < cos_crease;
 
   // Each input vertex's nearest remesh vertex (a corner of the remesh face closest to it), for
   // the "each the other's nearest" test, from the remesh as it is at the start of a pass.

@@ -12,6 +12,7 @@
 
 #include "meshlift/mesh.h"
 #include "meshlift/semi_regular.h"
+#include "meshlift/topology.h"
 
 namespace meshlift {
 
@@ -41,6 +42,11 @@ struct FeatureLines {
 /// edges of scans and coarse organic meshes, which are noise, not lines. An empty result for
 /// min_angle_degrees <= 0 or >= 180. \throw MeshError if `mesh` is not a manifold, consistently
 /// oriented triangle mesh (TriangleTopology::build()).
+/// The cosine of the angle between the unit normals of the two faces of each edge of
+/// `topology` (built from `mesh`'s faces): 1 on a boundary edge or where either face has no
+/// area (no turn to measure). find_feature_lines() and snap.h read their creases off it.
+std::vector<double> edge_turn_cosines(const TriangleMesh& mesh, const TriangleTopology& topology);
+
 FeatureLines find_feature_lines(const TriangleMesh& mesh, double min_angle_degrees, std::size_t min_chain_edges,
                                 double max_turn_degrees = 180, double max_side_degrees = 180);
 
