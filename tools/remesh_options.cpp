@@ -49,8 +49,8 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
       ->capture_default_str();
   cmd.add_flag("--snap", options.snap,
                "after the fit, move the remesh's vertices onto the input's own corners and creases wherever that "
-               "brings it closer (faceted inputs: 1-3 dB closer); for a remesh used as a mesh: its details then "
-               "cost more bits to code");
+               "brings it closer (0.2-7 dB on the development meshes); for a remesh used as a mesh: its details "
+               "then cost more bits to code");
   cmd.add_option("--feature-angle", options.feature_angle,
                  "feature lines (creases of CAD parts): edges whose faces turn by more than this many degrees, "
                  "in smooth lines of 5 edges or more between smooth sides, are kept by the base and followed by the "

@@ -102,10 +102,11 @@ struct RemeshOptions {
   int least_squares_rounds = 4;
   /// After the least-squares fit, move the decimation remesh's vertices onto the input's own
   /// corners and crease edges wherever that brings the two surfaces closer locally (snap.h). For
-  /// a remesh used as a mesh: faceted inputs gain 1-3 dB (at ~16x knot1 84.1 -> 86.5, elephant
-  /// 83.3 -> 87.3, cow 82.5 -> 86.5 with no fold), but the moves are along the surface, and the
-  /// codec pays for tangential details: BD-rate against Draco camel -66.9 -> -46.8 %, knot1
-  /// -49.3 -> -39.6 % (docs/RESULTS.md). Off by default; the sphere method ignores it.
+  /// a remesh used as a mesh: 0.2-6.7 dB closer on the development meshes (at ~16x knot1 84.1 ->
+  /// 86.5, elephant 83.3 -> 87.3, cow 82.5 -> 86.5 with no fold), at 1.5-2x the time; but the
+  /// moves are along the surface, and the codec pays for tangential details: BD-rate against
+  /// Draco camel -66.9 -> -45.1 %, knot1 -49.3 -> -35.9 % (docs/RESULTS.md). Off by default; the
+  /// sphere method ignores it.
   bool snap = false;
   /// Feature lines (features.h): edges whose faces turn by more than feature_angle (degrees; 0
   /// turns them off), in chains of at least feature_min_edges edges that turn by at most
