@@ -136,6 +136,8 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
       }
     }
     if (onto == kUntried) return kUntried;
+    // Already there (moved by an earlier pass): nothing to weigh.
+    if (squared(vec3::sub(target, p)) <= kNegligible * edge * edge) return kStayed;
 
     // The local error (snap.h) at the current position and at the target, over the same input
     // faces: those closest to the ring's points now.

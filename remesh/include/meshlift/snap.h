@@ -51,7 +51,9 @@ struct SnapReport {
 /// a move is kept if that sum falls and no face around v turns away from the input's normal at
 /// the closest point of its centroid (find_fold_overs()'s test) unless it did before.
 /// `surface` is the input's query structure.
-/// \throw std::invalid_argument if an option is out of range.
+/// \throw std::invalid_argument if an option is out of range or `fixed` has another size.
+/// \throw MeshError if the surface's mesh is not a manifold, consistently oriented triangle mesh
+///        (TriangleTopology::build(): its creases are read off its edges).
 SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, const SnapOptions& options = {});
 
 }  // namespace meshlift
