@@ -183,7 +183,7 @@ struct RemeshResult {
   /// crease edge (snap.h's report; the untangling after it may move a few again).
   std::size_t snapped_to_vertices = 0, snapped_to_creases = 0;
   /// Wall-clock seconds per stage, in pipeline order ("decimate", "fit base", "guides", "place
-  /// and compare", "least squares and untangle" (with snap: "least squares, snap and untangle"),
+  /// and compare", "least squares and untangle" (with snap: "least squares, untangle and snap"),
   /// then "choose density" with the automatic
   /// density, whose remeshes each list their stages, "decimate" only where a decimation ran (one
   /// for all its densities, with the feature lines and one without: decimate_each), and "place,
