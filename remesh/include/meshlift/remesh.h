@@ -100,12 +100,13 @@ struct RemeshOptions {
   /// Rounds of least-squares fitting of the decimation remesh to the input (least_squares_fit.h);
   /// 0 leaves every vertex on the input surface where the fitting stage placed it.
   int least_squares_rounds = 4;
-  /// After the least-squares fit, move the decimation remesh's vertices onto the input's own
-  /// corners and crease edges wherever that brings the two surfaces closer locally (snap.h). For
-  /// a remesh used as a mesh: 0.2-6.7 dB closer on the development meshes (at ~16x knot1 84.1 ->
-  /// 86.5, elephant 83.3 -> 87.3, cow 82.5 -> 86.5 with no fold), at 1.5-2x the time; but the
+  /// Last (after the least-squares fit and the untangling), move the decimation remesh's vertices
+  /// onto the input's own corners and crease edges wherever that brings the two surfaces closer
+  /// locally and turns no face away from the input (snap.h). For a remesh used as a mesh: 0.2-8.6
+  /// dB closer on the development meshes (at ~16x knot1 84.1 -> 86.5, elephant 83.3 -> 87.3, cow
+  /// 82.5 -> 86.4), never a fold more, at 1.5-2x the time; but the
   /// moves are along the surface, and the codec pays for tangential details: BD-rate against
-  /// Draco camel -66.9 -> -45.1 %, knot1 -49.3 -> -35.9 % (docs/RESULTS.md). Off by default; the
+  /// Draco camel -66.9 -> -51.9 %, knot1 -49.3 -> -35.9 % (docs/RESULTS.md). Off by default; the
   /// sphere method ignores it.
   bool snap = false;
   /// Feature lines (features.h): edges whose faces turn by more than feature_angle (degrees; 0
