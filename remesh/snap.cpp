@@ -194,22 +194,31 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
         }
       }
     }
-    std::vector<char> was_away(ring.size());
-    for (std::size_t i = 0; i < ring.size(); ++i) was_away[i] = faces_away(x, ring_face(ring[i]), surface);
-
-    for (int k = 0; k < 3; ++k) x[3 * std::size_t{v} + k] = target[k];
+    auto place = [&](const Vec3& at) {
+      for (int k = 0; k < 3; ++k) x[3 * std::size_t{v} + k] = at[k];
+    };
+    place(target);
     double after = ring_error(nullptr);
     for (const auto& [q, weight] : input_points) after += weight * distance2_to_ring(q);
-    bool keep = after < before * (1 - kNegligible) - kNegligible * edge * edge * edge * edge;
-    // No face around v may turn away from the input, nor collapse to a sliver of no area.
-    for (std::size_t i = 0; i < ring.size() && keep; ++i) {
-      const std::uint32_t* c = ring_face(ring[i]);
-      keep = (was_away[i] || !faces_away(x, c, surface)) &&
-             triangle_area(vec3::at(x, c[0]), vec3::at(x, c[1]), vec3::at(x, c[2])) > kSliverArea * edge * edge;
+    if (!(after < before * (1 - kNegligible) - kNegligible * edge * edge * edge * edge)) {
+      place(p);
+      return kStayed;
     }
-    if (keep) return onto;
-    for (int k = 0; k < 3; ++k) x[3 * std::size_t{v} + k] = p[k];
-    return kStayed;
+    // No face around v may turn away from the input (unless it did before the move), nor
+    // collapse to a sliver of no area. Tested only for a move that lowers the error: most do not.
+    std::vector<char> was_away(ring.size());
+    place(p);
+    for (std::size_t i = 0; i < ring.size(); ++i) was_away[i] = faces_away(x, ring_face(ring[i]), surface);
+    place(target);
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const std::uint32_t* c = ring_face(ring[i]);
+      if ((!was_away[i] && faces_away(x, c, surface)) ||
+          !(triangle_area(vec3::at(x, c[0]), vec3::at(x, c[1]), vec3::at(x, c[2])) > kSliverArea * edge * edge)) {
+        place(p);
+        return kStayed;
+      }
+    }
+    return onto;
   };
 
   // Vertices that share no face are tried at once: a greedy colouring in vertex order (no two
