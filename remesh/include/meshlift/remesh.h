@@ -104,7 +104,7 @@ struct RemeshOptions {
   /// onto the input's own corners and crease edges wherever that brings the two surfaces closer
   /// locally and turns no face away from the input (snap.h). For a remesh used as a mesh: 0.2-8.6
   /// dB closer on the development meshes (at ~16x knot1 84.1 -> 86.5, elephant 83.3 -> 87.3, cow
-  /// 82.5 -> 86.4), never a fold more, at 1.5-2x the time; but the
+  /// 82.5 -> 86.4), never a fold more, at 1.6-1.8x the time; but the
   /// moves are along the surface, and the codec pays for tangential details: BD-rate against
   /// Draco camel -66.9 -> -51.9 %, knot1 -49.3 -> -35.9 % (docs/RESULTS.md). Off by default; the
   /// sphere method ignores it.
