@@ -42,9 +42,9 @@
 #include "meshlift/limit.h"
 #include "meshlift/metric.h"
 #include "meshlift/self_intersection.h"
+#include "meshlift/snap.h"
 #include "meshlift/spherical_parametrization.h"
 #include "meshlift/surface_fit.h"
-#include "meshlift/snap.h"
 #include "meshlift/untangle.h"
 #include "meshlift/validate.h"
 #include "parallel.h"
@@ -398,6 +398,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     StageClock clock(sphere_stages);
     RemeshResult result{remesh_sphere(mesh, levels)};
     clock.lap("sphere");
+    if (options.snap) {
+      const SnapReport snapped = snap_to_input(result.mesh, surface, {});
+      result.snapped_to_vertices = snapped.onto_vertices;
+      result.snapped_to_creases = snapped.onto_creases;
+      clock.lap("snap");
+    }
     result.stage_seconds = std::move(sphere_stages);
     result.method = RemeshMethod::sphere;
     result.base_vertices = result.mesh.hierarchy.vertex_count(0);

@@ -22,7 +22,7 @@ struct RemeshCliOptions {
 };
 
 /// Adds `method_flag` (--method for remesh, --remesh for encode), --levels, --base-vertices and
-/// --density, --fit, --least-squares to `cmd`.
+/// --density, --fit, --least-squares, --snap, --feature-angle, --weld and --orient to `cmd`.
 void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::string& method_flag);
 
 /// The library options the command-line ones stand for (no progress callback).

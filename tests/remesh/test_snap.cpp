@@ -105,3 +105,24 @@ TEST_CASE("With --snap, elephant at 16x is within 85 dB of its input", "[corpus]
   CHECK(snapped.flipped_triangles == 0);
   CHECK(snapped.degenerate_triangles == 0);
 }
+
+TEST_CASE("snap: the sphere method's remesh is snapped too", "[remesh][snap]") {
+  // A faceted closed genus-0 input (the icosahedron refined twice, 162 vertices) through its
+  // octahedral geometry image, 4 refinements: with snap closer, and no fold more.
+  const TriangleMesh input = test::icosphere(2);
+  RemeshOptions options;
+  options.method = RemeshMethod::sphere;
+  options.levels = 4;
+  options.recognize = false;
+  const RemeshResult plain = remesh(input, options);
+  options.snap = true;
+  const RemeshResult snapped = remesh(input, options);
+  const double plain_db = surface_distance(input, plain.mesh.finest()).psnr_db();
+  const double snapped_db = surface_distance(input, snapped.mesh.finest()).psnr_db();
+  INFO("sphere method: " << plain_db << " dB, with snap " << snapped_db << " (" << snapped.snapped_to_vertices
+                         << " onto corners, " << snapped.snapped_to_creases << " onto creases)");
+  CHECK(plain.snapped_to_vertices + plain.snapped_to_creases == 0);
+  CHECK(snapped.snapped_to_vertices > 0);
+  CHECK(snapped_db > plain_db + 1);
+  CHECK(snapped.flipped_triangles + snapped.degenerate_triangles <= plain.flipped_triangles + plain.degenerate_triangles);
+}

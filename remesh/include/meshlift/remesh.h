@@ -106,8 +106,8 @@ struct RemeshOptions {
   /// dB closer on the development meshes (at ~16x knot1 84.1 -> 86.5, elephant 83.3 -> 87.3, cow
   /// 82.5 -> 86.4), never a fold more, at 1.6-1.8x the time; but the
   /// moves are along the surface, and the codec pays for tangential details: BD-rate against
-  /// Draco camel -66.9 -> -51.9 %, knot1 -49.3 -> -35.9 % (docs/RESULTS.md). Off by default; the
-  /// sphere method ignores it.
+  /// Draco camel -66.9 -> -51.9 %, knot1 -49.3 -> -35.9 % (docs/RESULTS.md). Off by default. The
+  /// sphere method snaps its geometry-image remesh the same way.
   bool snap = false;
   /// Feature lines (features.h): edges whose faces turn by more than feature_angle (degrees; 0
   /// turns them off), in chains of at least feature_min_edges edges that turn by at most
