@@ -56,7 +56,7 @@ SECONDS_PER_100K = 10.0
 
 GRID_COLUMNS = ["mesh", "input_vertices", "levels", "density", "output_vertices", "ratio", "base_vertices", "psnr_db",
                 "rms_rel", "hausdorff_rel", "flipped", "degenerate", "remesh_s", "wall_s", "user_s",
-                "remesh_s_per_100k", "peak_rss_mb", "same_as_density", "error"]
+                "remesh_s_per_100k", "peak_rss_mb", "error"]
 
 
 class SweepError(Exception):
@@ -225,10 +225,7 @@ def grid_markdown(rows, command):
              "wall, user and peak RSS of the whole process (`/usr/bin/time -f \"%s\"`, the error measurement "
              "included). Issue 4's targets: >= 75 dB at <= 4x the input's vertices, >= 85 dB at <= 16x "
              "(ratios within %d %% of the budget count), zero folds, <= %g s per 100 k input vertices. "
-             "\"16 (= 4)\": the decimation for D = 4 already stopped at or above D = 16's base size, so D = 16 "
-             "gives the same base and remesh; \"auto (= 4)\": D = 4's decimation stopped above its target, so "
-             "auto's 2x try gets the same base and keeps it; such rows repeat that run (not run again, times "
-             "are that run's)."
+             "Every cell is a run of its own."
              % (command, TIME_FORMAT, round(100 * (BUDGET_TOLERANCE - 1)), SECONDS_PER_100K), ""]
     head = ["mesh", "input v", "L", "D", "output v (ratio)", "base v", "PSNR dB", "folds", "remesh s", "wall s",
             "user s", "remesh s / 100 k in", "peak RSS MB", "target"]
@@ -239,8 +236,7 @@ def grid_markdown(rows, command):
                          [""] * (len(head) - 5))
             continue
         folds = int(r["flipped"]) + int(r["degenerate"])
-        density = r["density"] if not r["same_as_density"] else "%s (= %s)" % (r["density"], r["same_as_density"])
-        table.append([r["mesh"], "{:,}".format(r["input_vertices"]), r["levels"], density,
+        table.append([r["mesh"], "{:,}".format(r["input_vertices"]), r["levels"], r["density"],
                       "{:,} ({}x)".format(r["output_vertices"], r["ratio"]), "{:,}".format(r["base_vertices"]),
                       r["psnr_db"], folds if not r["degenerate"] else "%d (%d degenerate)" % (folds, r["degenerate"]),
                       r["remesh_s"], r["wall_s"], r["user_s"], r["remesh_s_per_100k"], r["peak_rss_mb"],
@@ -264,10 +260,9 @@ def compact_table(rows):
                 line.append("-")
                 continue
             folds = int(r["flipped"]) + int(r["degenerate"])
-            line.append("%.1f / %.1fx / %d%s" % (float(r["psnr_db"]), float(r["ratio"]), folds,
-                                                 " (=)" if r["same_as_density"] else ""))
+            line.append("%.1f / %.1fx / %d" % (float(r["psnr_db"]), float(r["ratio"]), folds))
         table.append(["%s (%s)" % (mesh, "{:,}".format(cells_input(rows, mesh)))] + line)
-    return ("In short, PSNR dB / output vertices per input vertex / folds; (=) repeats the D = 4 run:\n\n" +
+    return ("In short, PSNR dB / output vertices per input vertex / folds:\n\n" +
             demo_report.markdown_table(head, table))
 
 
@@ -290,7 +285,7 @@ def summary_lines(rows):
         cells = [r for r in rows if r["density"] == density]
         clean = ["%s L%d" % (r["mesh"], r["levels"]) for r in cells if not int(r["flipped"]) + int(r["degenerate"])]
         out.append("- D = %s without folds: %d of %d: %s" % (density, len(clean), len(cells), ", ".join(clean) or "none"))
-    runs = [r for r in rows if not r["same_as_density"]]
+    runs = rows
     for density in dict.fromkeys(r["density"] for r in runs):
         for level in dict.fromkeys(r["levels"] for r in runs):
             per_100k = sorted(float(r["remesh_s_per_100k"]) for r in runs
@@ -303,46 +298,20 @@ def summary_lines(rows):
     return "\n".join(out)
 
 
-def same_remesh(rows, mesh, level, density):
-    """An earlier row of this mesh and level whose remesh this density's would repeat, or None.
-
-    The base is sized for max(ceil(D V / 4^L), the decimator's floor) vertices (remesh.cpp,
-    automatic_remesh_base), and the decimation is deterministic, so a decimation that stopped at
-    B >= ceil(D V / 4^L) vertices for a smaller density gives D the same base and the same remesh
-    (remesh() skips its denser automatic try by the same rule). At L >= 4 it often does: the
-    decimator cannot go below a few hundred vertices on some meshes (cow: 193).
-    --density auto remeshes at 2x first and keeps that when its decimation stopped above 4x's base
-    size (remesh.cpp, kAutoDensities = {2, 3, 4}; 3x is skipped by the same rule): when D = 4's
-    decimation stopped above its own target, auto's remesh is that same one."""
-    if density == "auto":
-        for row in rows:
-            if (row["mesh"] == mesh and row["levels"] == level and row["density"] == "4" and not row["error"]
-                    and not row["same_as_density"]
-                    and row["base_vertices"] > math.ceil(4 * row["input_vertices"] / 4 ** level)):
-                return row
-        return None
-    for row in rows:
-        if (row["mesh"] == mesh and row["levels"] == level and row["density"] != "auto" and not row["error"]
-                and not row["same_as_density"] and float(row["density"]) < float(density)
-                and row["base_vertices"] >= math.ceil(float(density) * row["input_vertices"] / 4 ** level)):
-            return row
-    return None
-
-
 def run_grid(args, input_vertices):
     rows = []
     failed = False
     csv_path, md_path = os.path.join(args.out, "remesh_sweep.csv"), os.path.join(args.out, "remesh_sweep.md")
     for mesh, level, density, skip in grid_plan(args.meshes, args.levels, args.densities, input_vertices,
                                                 args.big_vertices, args.big_levels):
-        earlier = None if args.rerun_same_base else same_remesh(rows, mesh, level, density)
         if skip:
             row = dict.fromkeys(GRID_COLUMNS, "")
             row.update(mesh=mesh, input_vertices=input_vertices.get(mesh, ""), levels=level, density=density,
                        error=skip)
-        elif earlier:
-            row = dict(earlier, density=density, same_as_density=earlier["density"])
         else:
+            # Every density is a run of its own: where a decimation stops above a density's base
+            # size, the remesher decimates again to that density's own target to keep the parts
+            # the remesh missed (remesh.h, missing_part_rounds), so no density repeats another's.
             row = remesh_row(args.meshlift, args.corpus, args.out, mesh, level, density, args.timeout, args.resume)
             failed |= bool(row["error"])
             if row["error"]:
@@ -489,9 +458,6 @@ def main(argv):
     parser.add_argument("--timeout", type=float, default=900, help="seconds one remesh may take (default 900)")
     parser.add_argument("--rd-timeout", type=float, default=3600, help="seconds one `meshlift rd` may take")
     parser.add_argument("--resume", action="store_true", help="reuse the logs of runs already in OUT")
-    parser.add_argument("--rerun-same-base", action="store_true",
-                        help="run a density whose base a smaller density's decimation already gave (by default its "
-                             "row repeats that run's figures)")
     parser.add_argument("--fit-meshes", default=",".join(FIT_MESHES), help="meshes of the --fit comparison")
     parser.add_argument("--bpv", default="1,1.5,2,3,4,6,8,12,16,24", help="budgets of the --fit comparison, bits per input vertex")
     parser.add_argument("--fit-density", default="auto",

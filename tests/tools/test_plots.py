@@ -419,7 +419,7 @@ class RemeshSweepTest(unittest.TestCase):
     def row(**fields):
         row = {"mesh": "m", "levels": 3, "density": "4", "input_vertices": 1000, "output_vertices": 4000,
                "ratio": "4.00", "base_vertices": 63, "psnr_db": "80.0", "flipped": "0", "degenerate": "0",
-               "error": "", "same_as_density": ""}
+               "error": ""}
         row.update(fields)
         return row
 
@@ -432,16 +432,6 @@ class RemeshSweepTest(unittest.TestCase):
         self.assertEqual(remesh_sweep.targets_met(self.row(flipped="1")), "no (1 folds)")
         self.assertEqual(remesh_sweep.targets_met(self.row(density="auto")), "")
         self.assertEqual(remesh_sweep.targets_met(self.row(density="2")), "")
-
-    def test_a_denser_run_repeats_a_decimation_that_stopped_above_its_base(self):
-        # ceil(16 * 1000 / 64) = 250: a D = 4 decimation that stopped at 250 vertices serves D = 16,
-        # one that stopped at 249 does not; auto repeats D = 4 when it stopped above ceil(4 * 1000 / 64) = 63.
-        stopped = self.row(base_vertices=250)
-        self.assertIs(remesh_sweep.same_remesh([stopped], "m", 3, "16"), stopped)
-        self.assertIsNone(remesh_sweep.same_remesh([self.row(base_vertices=249)], "m", 3, "16"))
-        self.assertIsNone(remesh_sweep.same_remesh([stopped], "m", 4, "16"))
-        self.assertIs(remesh_sweep.same_remesh([self.row(base_vertices=64)], "m", 3, "auto")["base_vertices"], 64)
-        self.assertIsNone(remesh_sweep.same_remesh([self.row(base_vertices=63)], "m", 3, "auto"))
 
     def test_off_vertex_count_reads_split_and_commented_headers(self):
         with tempfile.TemporaryDirectory() as directory:
