@@ -64,16 +64,29 @@ TEST_CASE("snap: fixed vertices stay, and the result does not depend on the thre
 }
 
 TEST_CASE("snap: a move that would not bring the surfaces closer is not made", "[remesh][snap]") {
-  // The remesh is the input itself, refined: every vertex already lies on the input, so no move
-  // can lower the error, and none is made (tried: each base vertex is on its corner already).
-  const TriangleMesh input = test::icosahedron();
+  // A flat grid, and its refinement with every inner vertex slid along the plane by a tenth of
+  // an edge: the remesh lies on the input already (error 0), each of its grid vertices is within
+  // reach of its input vertex (each the other's nearest), and the move back would neither fold
+  // nor squeeze a face. Only the error test, which no move can pass here, keeps them all where
+  // they are.
+  const TriangleMesh input = test::grid(9);
   const SurfaceQuery surface(input);
-  SemiRegularMesh mesh = refine_linear(input, 2);
-  const std::vector<double> exact = mesh.positions;
+  SemiRegularMesh mesh = refine_linear(input, 1);
+  const double edge = 1.0 / 16;
+  for (std::size_t v = 0; v < mesh.positions.size() / 3; ++v) {
+    double* p = &mesh.positions[3 * v];
+    if (p[0] > 0 && p[0] < 1 && p[1] > 0 && p[1] < 1) p[0] += 0.1 * edge;
+  }
+  const std::vector<double> slid = mesh.positions;
   const SnapReport report = snap_to_input(mesh, surface);
-  CHECK(report.tried > 0);
+  CHECK(report.tried >= 49);  // the 7 x 7 inner grid vertices
   CHECK(report.onto_vertices + report.onto_creases == 0);
-  CHECK(mesh.positions == exact);
+  CHECK(mesh.positions == slid);
+  // The exact refinement is left as it is too (each vertex on its target already).
+  SemiRegularMesh exact = refine_linear(test::icosahedron(), 2);
+  const std::vector<double> before = exact.positions;
+  snap_to_input(exact, SurfaceQuery(test::icosahedron()));
+  CHECK(exact.positions == before);
 }
 
 TEST_CASE("snap: bad options are refused", "[remesh][snap]") {
