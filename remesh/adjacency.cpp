@@ -2,6 +2,9 @@
 #include "adjacency.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "vec3.h"
 
 namespace meshlift {
 
@@ -36,6 +39,16 @@ Adjacency::Adjacency(std::uint32_t vertices, const std::vector<std::uint32_t>& t
     neighbour_offsets[v + 1] = static_cast<std::uint32_t>(neighbours.size());
     boundary_neighbour_offsets[v + 1] = static_cast<std::uint32_t>(boundary_neighbours.size());
   }
+}
+
+double Adjacency::mean_edge_length(std::span<const double> x, std::uint32_t v) const {
+  double mean = 0;
+  const double count = neighbour_offsets[v + 1] - neighbour_offsets[v];
+  for (std::uint32_t k = neighbour_offsets[v]; k < neighbour_offsets[v + 1]; ++k) {
+    const vec3::Vec3 d = vec3::sub(vec3::at(x, neighbours[k]), vec3::at(x, v));
+    mean += std::sqrt(vec3::dot(d, d)) / count;
+  }
+  return mean;
 }
 
 }  // namespace meshlift

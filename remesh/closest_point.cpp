@@ -16,6 +16,7 @@ namespace meshlift {
 namespace {
 
 using vec3::Vec3;
+using vec3::closest_on_segment;
 using vec3::cross;
 using vec3::dot;
 using vec3::sub;
@@ -27,15 +28,6 @@ Vec3 combine(const Vec3& a, const Vec3& ab, double v, const Vec3& ac, double w) 
 double squared_distance(const Vec3& u, const Vec3& v) {
   const Vec3 d = sub(u, v);
   return dot(d, d);
-}
-
-/// Closest point of segment [s, e] to p: s + t·(e − s), t = clamp((p − s)·(e − s) / |e − s|², 0, 1).
-/// Returns t (0 for a zero-length segment).
-double closest_on_segment(const Vec3& p, const Vec3& s, const Vec3& e) {
-  const Vec3 se = sub(e, s);
-  const double length2 = dot(se, se);
-  if (!(length2 > 0)) return 0;
-  return std::clamp(dot(sub(p, s), se) / length2, 0.0, 1.0);
 }
 
 /// A degenerate triangle is the union of its edges: the best of the three segment projections

@@ -102,8 +102,6 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
   // Measured against the centroid alone: armadillo, camel, cow, lion-head and mannequin-devil
   // (L = 3) within -3.8..+3.8 dB of each other, the four points steadier on the corpus.
   constexpr int kPoints = 4;
-  constexpr double kInner[kPoints][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6, 1.0 / 6},
-                                         {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}};
   // Mean length of the edges at each vertex, for the step limit.
   auto mean_edge = [&](std::span<const double> p, std::uint32_t v) {
     double sum = 0;
@@ -142,7 +140,8 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
         const Vec a = at(x, triangles[3 * f]), b = at(x, triangles[3 * f + 1]), c = at(x, triangles[3 * f + 2]);
         for (int k = 0; k < kPoints; ++k) {
           Vec p;
-          for (int i = 0; i < 3; ++i) p[i] = kInner[k][0] * a[i] + kInner[k][1] * b[i] + kInner[k][2] * c[i];
+          const double* w = vec3::kFourPoints[k];
+          for (int i = 0; i < 3; ++i) p[i] = w[0] * a[i] + w[1] * b[i] + w[2] * c[i];
           on_input[kPoints * f + k] = surface.closest(p, round > 0 ? on_input[kPoints * f + k].face : previous);
           previous = on_input[kPoints * f + k].face;
         }
@@ -186,7 +185,7 @@ LeastSquaresFitReport fit_least_squares(SemiRegularMesh& mesh, const SurfaceQuer
       const double area = 0.5 * std::sqrt(dot(normals[f], normals[f]));
       mesh_area += area;
       for (int k = 0; k < kPoints; ++k) {
-        add(f, kInner[k], area / kPoints, on_input[kPoints * f + k].point.data());
+        add(f, vec3::kFourPoints[k], area / kPoints, on_input[kPoints * f + k].point.data());
         mesh_sum += area / kPoints * on_input[kPoints * f + k].distance * on_input[kPoints * f + k].distance;
       }
     }

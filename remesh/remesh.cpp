@@ -541,8 +541,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
           const SurfacePoint on = surface.closest(centroid, hint);
           hint = on.face;
           if (!(on.distance > limit)) continue;
-          const int corner = static_cast<int>(std::max_element(on.barycentric.begin(), on.barycentric.end()) - on.barycentric.begin());
-          face_corner[f] = {on.distance, mesh.triangles[3 * std::size_t{on.face} + corner]};
+          face_corner[f] = {on.distance, mesh.triangles[3 * std::size_t{on.face} + on.heaviest_corner()]};
         }
       });
       std::vector<std::pair<double, std::uint32_t>> far;

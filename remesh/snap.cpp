@@ -20,29 +20,13 @@ namespace meshlift {
 namespace {
 
 using vec3::Vec3;
-
-Vec3 lerp(const Vec3& a, const Vec3& b, double t) {
-  return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
-}
+using vec3::triangle_area;
 
 double squared(const Vec3& v) { return vec3::dot(v, v); }
 
-// Closest point to p on the segment ab.
-Vec3 on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = vec3::sub(b, a);
-  const double length2 = squared(ab);
-  const double t = length2 > 0 ? std::clamp(vec3::dot(vec3::sub(p, a), ab) / length2, 0.0, 1.0) : 0.0;
-  return lerp(a, b, t);
-}
-
-double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return 0.5 * std::sqrt(squared(vec3::cross(vec3::sub(b, a), vec3::sub(c, a))));
-}
-
-// The quadrature points of snap.h: 4 per remesh face (centroid and (2/3, 1/6, 1/6) and its
-// rotations, a quarter of the area each), 7 per input face (corners 1/12, edge midpoints 1/6,
-// centroid 1/4 of the area).
-constexpr double kInner[4][3] = {{1. / 3, 1. / 3, 1. / 3}, {2. / 3, 1. / 6, 1. / 6}, {1. / 6, 2. / 3, 1. / 6}, {1. / 6, 1. / 6, 2. / 3}};
+// The quadrature points of snap.h: 4 per remesh face (vec3::kFourPoints), 7 per input face
+// (corners 1/12, edge midpoints 1/6, centroid 1/4 of the area: weights and points of the
+// degree-1 rule, with the corners and midpoints summing like the centroid).
 constexpr double kSeven[7][4] = {{1, 0, 0, 1. / 12},     {0, 1, 0, 1. / 12},     {0, 0, 1, 1. / 12},        {.5, .5, 0, 1. / 6},
                                  {0, .5, .5, 1. / 6},    {.5, 0, .5, 1. / 6},    {1. / 3, 1. / 3, 1. / 3, .25}};
 
@@ -110,18 +94,14 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
     const std::span<const std::uint32_t> ring(&adjacency.faces[adjacency.face_offsets[v]],
                                               adjacency.face_offsets[v + 1] - adjacency.face_offsets[v]);
     const Vec3 p = vec3::at(x, v);
-    double edge_sum = 0;
-    std::size_t edge_count = 0;
-    for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k, ++edge_count)
-      edge_sum += std::sqrt(squared(vec3::sub(vec3::at(x, adjacency.neighbours[k]), p)));
-    if (edge_count == 0) return kUntried;
-    const double edge = edge_sum / static_cast<double>(edge_count), reach = options.reach * edge;
+    const double edge = adjacency.mean_edge_length(x, v), reach = options.reach * edge;
+    if (!(edge > 0)) return kUntried;
 
     // The target: the input vertex nearest v if v is its nearest too, else the nearest point of
     // a crease edge of the input face closest to v.
     const SurfacePoint on = surface.closest(p);
     const std::uint32_t* t = &input.triangles[3 * std::size_t{on.face}];
-    const int corner = static_cast<int>(std::max_element(on.barycentric.begin(), on.barycentric.end()) - on.barycentric.begin());
+    const int corner = on.heaviest_corner();
     Vec3 target{};
     Outcome onto = kUntried;
     if (nearest_of_input[t[corner]] == v && squared(vec3::sub(vec3::at(input.positions, t[corner]), p)) < reach * reach) {
@@ -131,7 +111,9 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
       double best = reach * reach;
       for (int i = 0; i < 3; ++i) {
         if (!crease[3 * std::size_t{on.face} + i]) continue;
-        const Vec3 q = on_segment(p, vec3::at(input.positions, t[i]), vec3::at(input.positions, t[(i + 1) % 3]));
+        const Vec3 a = vec3::at(input.positions, t[i]), b = vec3::at(input.positions, t[(i + 1) % 3]);
+        const double along = vec3::closest_on_segment(p, a, b);
+        const Vec3 q{a[0] + along * (b[0] - a[0]), a[1] + along * (b[1] - a[1]), a[2] + along * (b[2] - a[2])};
         if (const double d = squared(vec3::sub(q, p)); d < best) best = d, target = q, onto = kOntoCrease;
       }
     }
@@ -164,7 +146,7 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
         const std::uint32_t* c = ring_face(f);
         const Vec3 a = vec3::at(x, c[0]), b = vec3::at(x, c[1]), d = vec3::at(x, c[2]);
         const double quarter = triangle_area(a, b, d) / 4;
-        for (const auto& w : kInner) {
+        for (const auto& w : vec3::kFourPoints) {
           const SurfacePoint s = surface.closest(combine(a, b, d, w), hint);
           hint = s.face;
           sum += quarter * s.distance * s.distance;

@@ -33,6 +33,7 @@
 
 #include "meshlift/validate.h"
 #include "halfedge_mesh.h"
+#include "vec3.h"
 
 namespace meshlift {
 
@@ -103,7 +104,7 @@ double spherical_squared_stretch(const Vec& p0, const Vec& p1, const Vec& p2, co
   return squared_stretch(g[0], g[1], g[2], q0, q1, q2);
 }
 
-double triangle_area(const Vec& a, const Vec& b, const Vec& c) { return 0.5 * norm(cross(sub(b, a), sub(c, a))); }
+using vec3::triangle_area;
 
 
 /// One halfedge collapse v0 -> v1 with its left and right wing vertices.

@@ -139,16 +139,6 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
     // mesh, Guskov et al. 2000): no tangential components to code.
     const std::vector<Vec> frame_normal = j <= options.normal_line_levels ? edge_frame_normals(h.topology(j - 1), x) : std::vector<Vec>{};
 
-    // Mean distance from v to its neighbours: the scale of the vertex's moves.
-    auto reach_of = [&](std::uint32_t v) {
-      double reach = 0;
-      const double n_count = adjacency.neighbour_offsets[v + 1] - adjacency.neighbour_offsets[v];
-      for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
-        const Vec d = sub(at(x, adjacency.neighbours[k]), at(x, v));
-        reach += std::sqrt(dot(d, d)) / n_count;
-      }
-      return reach;
-    };
     // A face of the level is folded when it faces away from the input normals under its corners.
     auto folded = [&](std::size_t f) {
       const std::uint32_t* t = &triangles[3 * f];
@@ -202,7 +192,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
           const double n_len = std::sqrt(dot(n, n));
           if (n_len > 0)
             for (double& c : n) c /= n_len;
-          const double reach = reach_of(v);
+          const double reach = adjacency.mean_edge_length(x, v);  // the scale of the vertex's moves
           if (smooth) {
             Vec mean{0, 0, 0};
             const auto& offsets = on_boundary ? adjacency.boundary_neighbour_offsets : adjacency.neighbour_offsets;
@@ -291,7 +281,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
           const Vec& n = frame_normal[v - first];
           if (adjacency.on_boundary(v) || n == Vec{0, 0, 0}) continue;
           const Vec p = at(x, v), start_from = j <= options.guide_levels ? at(guide, v) : at(predicted, v);
-          const double reach = reach_of(v);
+          const double reach = adjacency.mean_edge_length(x, v);  // the scale of the vertex's moves
           const Vec q = at(predicted, v);
           const double height = dot(sub(start_from, q), n);
           const SurfacePoint s = shoot(surface, {q[0] + height * n[0], q[1] + height * n[1], q[2] + height * n[2]}, n, 2 * reach);

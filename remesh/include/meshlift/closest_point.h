@@ -3,6 +3,7 @@
 // rtcPointQuery) that finds the closest face of a mesh to any point.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -30,6 +31,11 @@ struct SurfacePoint {
   std::uint32_t face = kNone;           ///< triangle it lies on
   std::array<double, 3> barycentric{};  ///< weights of that face's corners 0, 1, 2
   double distance = 0;                  ///< |p - point|
+  /// The corner (0, 1 or 2) of `face` with the largest barycentric weight: the face's corner
+  /// nearest `point` in the sense of the weights (ties to the first).
+  int heaviest_corner() const {
+    return static_cast<int>(std::max_element(barycentric.begin(), barycentric.end()) - barycentric.begin());
+  }
 };
 
 /// A BVH over a triangle mesh's faces for closest-point queries.
