@@ -24,9 +24,10 @@ using vec3::triangle_area;
 
 double squared(const Vec3& v) { return vec3::dot(v, v); }
 
-// The quadrature points of snap.h: 4 per remesh face (vec3::kFourPoints), 7 per input face
-// (corners 1/12, edge midpoints 1/6, centroid 1/4 of the area: weights and points of the
-// degree-1 rule, with the corners and midpoints summing like the centroid).
+// The quadrature points of snap.h: 4 per remesh face (vec3::kFourPoints), 7 per input face:
+// barycentric weights, then the point's share of the area (corners 1/12, edge midpoints 1/6,
+// centroid 1/4). Exact for linear functions: the corners and the midpoints each average to the
+// centroid, so the shares sum to f(centroid) = the mean of f over the face.
 constexpr double kSeven[7][4] = {{1, 0, 0, 1. / 12},     {0, 1, 0, 1. / 12},     {0, 0, 1, 1. / 12},        {.5, .5, 0, 1. / 6},
                                  {0, .5, .5, 1. / 6},    {.5, 0, .5, 1. / 6},    {1. / 3, 1. / 3, 1. / 3, .25}};
 
@@ -89,8 +90,14 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
 
   // What happened at each vertex.
   enum Outcome : std::uint8_t { kUntried, kStayed, kOntoVertex, kOntoCrease };
+  // A worker's buffers, reused from vertex to vertex.
+  struct Scratch {
+    std::vector<std::uint32_t> near_faces;
+    std::vector<std::pair<Vec3, double>> input_points;
+    std::vector<char> was_away;
+  };
   // Tries vertex v (snap.h); reads the positions of v's ring and writes v's alone.
-  auto try_vertex = [&](std::uint32_t v) -> Outcome {
+  auto try_vertex = [&](std::uint32_t v, Scratch& scratch) -> Outcome {
     const std::span<const std::uint32_t> ring(&adjacency.faces[adjacency.face_offsets[v]],
                                               adjacency.face_offsets[v + 1] - adjacency.face_offsets[v]);
     const Vec3 p = vec3::at(x, v);
@@ -155,14 +162,16 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
       }
       return sum;
     };
-    std::vector<std::uint32_t> near_faces{on.face};
+    std::vector<std::uint32_t>& near_faces = scratch.near_faces;
+    near_faces.assign(1, on.face);
     double before = ring_error(&near_faces);
     std::sort(near_faces.begin(), near_faces.end());
     near_faces.erase(std::unique(near_faces.begin(), near_faces.end()), near_faces.end());
     // The input's side: points of those faces whose closest point on the ring is off its rim
     // (elsewhere the rim, which does not move, or the faces beyond it are closest), within one
     // mean edge length of it.
-    std::vector<std::pair<Vec3, double>> input_points;
+    std::vector<std::pair<Vec3, double>>& input_points = scratch.input_points;
+    input_points.clear();
     for (const std::uint32_t f : near_faces) {
       const std::uint32_t* c = &input.triangles[3 * std::size_t{f}];
       const Vec3 a = vec3::at(input.positions, c[0]), b = vec3::at(input.positions, c[1]), d = vec3::at(input.positions, c[2]);
@@ -188,7 +197,8 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
     }
     // No face around v may turn away from the input (unless it did before the move), nor
     // collapse to a sliver of no area. Tested only for a move that lowers the error: most do not.
-    std::vector<char> was_away(ring.size());
+    std::vector<char>& was_away = scratch.was_away;
+    was_away.resize(ring.size());
     place(p);
     for (std::size_t i = 0; i < ring.size(); ++i) was_away[i] = faces_away(x, ring_face(ring[i]), surface);
     place(target);
@@ -226,8 +236,9 @@ SnapReport snap_to_input(SemiRegularMesh& mesh, const SurfaceQuery& surface, con
     find_nearest();
     for (const std::vector<std::uint32_t>& group : by_colour)
       parallel_blocks(group.size(), options.threads, [&](std::size_t begin, std::size_t end) {
+        Scratch scratch;
         for (std::size_t i = begin; i < end; ++i)
-          if (const Outcome o = try_vertex(group[i]); o != kUntried && !(o == kStayed && outcome[group[i]] > kStayed))
+          if (const Outcome o = try_vertex(group[i], scratch); o != kUntried && !(o == kStayed && outcome[group[i]] > kStayed))
             outcome[group[i]] = o;
       });
   }
