@@ -9,14 +9,40 @@
 
 namespace meshlift {
 
-CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree) {
-  const SemiRegularHierarchy& old = mesh.hierarchy;
-  const int L = old.levels();
-  const std::size_t V = old.vertex_count(L);
+namespace {
+
+void check_sizes(const SemiRegularMesh& mesh) {
+  const std::size_t V = mesh.hierarchy.vertex_count(mesh.hierarchy.levels());
   if (mesh.positions.size() != 3 * V) throw MeshError("the positions do not match the hierarchy's vertex count");
   for (const VertexChannel& channel : mesh.channels)
     if (channel.components < 1 || channel.values.size() != static_cast<std::size_t>(channel.components) * V)
       throw MeshError("a channel's values do not match the hierarchy's vertex count");
+}
+
+}  // namespace
+
+bool is_canonical(const SemiRegularMesh& mesh) {
+  check_sizes(mesh);
+  const SemiRegularHierarchy& h = mesh.hierarchy;
+  const int L = h.levels();
+  for (int j = 0; j < std::max(L, 1); ++j)
+    if (!h.has_topology(j)) return false;
+  const std::vector<std::uint32_t>& base = h.triangles(0);
+  base_mesh::CodingOrder order;
+  base_mesh::encode_faces(base, h.vertex_count(0), &order);
+  for (std::size_t k = 0; k < order.face.size(); ++k)
+    if (order.face[k] != k || order.rotation[k] != 0) return false;
+  for (std::uint32_t v = 0; v < order.label.size(); ++v)
+    if (order.label[v] != v) return false;
+  const TriangleTopology& t = h.topology(0);
+  const TriangleTopology built = TriangleTopology::build(h.vertex_count(0), base);
+  return t.edge_vertices == built.edge_vertices && t.edge_faces == built.edge_faces && t.face_edges == built.face_edges;
+}
+
+CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree) {
+  check_sizes(mesh);
+  const SemiRegularHierarchy& old = mesh.hierarchy;
+  const int L = old.levels();
   const std::vector<std::uint32_t>& old_base = old.triangles(0);
   base_mesh::CodingOrder order;
   base_mesh::encode_faces(old_base, old.vertex_count(0), &order);

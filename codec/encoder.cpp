@@ -1,13 +1,16 @@
 // Semi-regular mesh -> .mlz stream: analyze, normalize and quantize, then the HEAD, BASE and
 // COEF chunks (bitstream/FORMAT.md §3-5). Mirrors decoder.cpp.
 #include <algorithm>
-#include <limits>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
+#include <thread>
 
 #include "base_mesh_coder.h"
 #include "base_values.h"
 #include "canonical_order.h"
+#include "concurrent.h"
 #include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
@@ -221,10 +224,13 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
 
   // The canonical order as a renumbering, read through: no reordered copy of the positions, and
-  // a hierarchy without the finest faces and the coefficient tree (nothing here reads them).
-  const CanonicalHierarchy canonical = canonical_hierarchy(input, false, false);  // also checks the array sizes
-  const SemiRegularHierarchy& h = canonical.hierarchy;
-  const std::vector<std::uint32_t>& old_vertex = canonical.old_vertex;
+  // a hierarchy without the finest faces and the coefficient tree (nothing here reads them). A
+  // mesh in that order already (a remesh, a decoded mesh) is read as it is: no second hierarchy.
+  const bool in_order = is_canonical(input);  // also checks the array sizes
+  const std::optional<CanonicalHierarchy> canonical =
+      in_order ? std::nullopt : std::optional(canonical_hierarchy(input, false, false));
+  const SemiRegularHierarchy& h = in_order ? given : canonical->hierarchy;
+  const std::uint32_t* const old_vertex = in_order ? nullptr : canonical->old_vertex.data();
   const int L = h.levels();
 
   StreamHeader header;
@@ -244,77 +250,92 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     return n;
   }();
   const std::size_t k_stride = static_cast<std::size_t>(K);
-  // Each value's extremes over all vertices (the bounding box and the channels' ranges), taken
-  // as the values are gathered (min and max are exact: the order they see the values in does
-  // not matter).
-  // The extremes in locals while gathering: in the vectors, every vertex's update would be
-  // stored and loaded back through memory (the compiler cannot tell them from `values`).
-  double lowest[zerotree::kMaxComponents], highest[zerotree::kMaxComponents];  // K <= kMaxComponents: checked above
-  std::fill_n(lowest, k_stride, std::numeric_limits<double>::infinity());
-  std::fill_n(highest, k_stride, -std::numeric_limits<double>::infinity());
   std::vector<double> values;
-  reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
-  // One value at a time (push_back inlines; a 3-value insert per vertex is a memmove call).
-  for (std::uint32_t v = 0; v < V; ++v) {
-    const std::size_t old = old_vertex[v];
-    std::size_t k = 0;
-    auto append = [&](double x) {
-      values.push_back(x);
-      lowest[k] = std::min(lowest[k], x);
-      highest[k] = std::max(highest[k], x);
-      ++k;
-    };
-    for (std::size_t i = 0; i < 3; ++i) append(input.positions[3 * old + i]);
+  // With more than one thread, the independent stages run side by side (concurrent.h): the
+  // transform's tables while the values are gathered, the level weights while they are analyzed.
+  const bool concurrent = (options.threads == 0 ? std::thread::hardware_concurrency() : options.threads) > 1;
+  std::optional<WaveletTransform> transform_tables;
+  const WaveletOptions wavelet{header.scheme, header.mean_preserving_update};
+  run_both(concurrent, [&] { transform_tables.emplace(h, wavelet); }, [&] {
+    // Each value's extremes over all vertices (the bounding box and the channels' ranges), taken
+    // as the values are gathered (min and max are exact: the order they see the values in does
+    // not matter).
+    // The extremes in locals while gathering: in the vectors, every vertex's update would be
+    // stored and loaded back through memory (the compiler cannot tell them from `values`).
+    double lowest[zerotree::kMaxComponents], highest[zerotree::kMaxComponents];  // K <= kMaxComponents: checked above
+    std::fill_n(lowest, k_stride, std::numeric_limits<double>::infinity());
+    std::fill_n(highest, k_stride, -std::numeric_limits<double>::infinity());
+    reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
+    // One value at a time (push_back inlines; a 3-value insert per vertex is a memmove call).
+    for (std::uint32_t v = 0; v < V; ++v) {
+      const std::size_t old = in_order ? v : old_vertex[v];
+      std::size_t k = 0;
+      auto append = [&](double x) {
+        values.push_back(x);
+        lowest[k] = std::min(lowest[k], x);
+        highest[k] = std::max(highest[k], x);
+        ++k;
+      };
+      for (std::size_t i = 0; i < 3; ++i) append(input.positions[3 * old + i]);
+      for (const VertexChannel& c : input.channels) {
+        const std::size_t n = static_cast<std::size_t>(c.components);
+        for (std::size_t i = 0; i < n; ++i) append(c.values[n * old + i]);
+      }
+    }
+    // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
+    // diagonal as bounding_box_diagonal computes it from the same extremes).
+    double lo[3], hi[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = lowest[k];
+      hi[k] = highest[k];
+      header.center[k] = header_float(0.5 * (lo[k] + hi[k]), "bounding-box centre", false);
+    }
+    double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (!(diagonal > 0)) diagonal = 1.0;
+    header.step = std::ldexp(diagonal, -options.precision_bits);
+    // Each channel: centred on the middle of each component's range, one step for all its
+    // components from the widest range.
+    std::size_t offset = 3;
     for (const VertexChannel& c : input.channels) {
-      const std::size_t n = static_cast<std::size_t>(c.components);
-      for (std::size_t i = 0; i < n; ++i) append(c.values[n * old + i]);
+      ChannelQuantization hc;
+      hc.components = c.components;
+      double range = 0;
+      for (int k = 0; k < c.components; ++k) {
+        const std::size_t i = offset + static_cast<std::size_t>(k);
+        const double low = lowest[i], high = highest[i];
+        hc.center.push_back(header_float(0.5 * (low + high), "channel centre", false));
+        range = std::max(range, high - low);
+      }
+      hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
+      header.channels.push_back(std::move(hc));
+      offset += static_cast<std::size_t>(c.components);
     }
-  }
-  // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
-  // diagonal as bounding_box_diagonal computes it from the same extremes).
-  double lo[3], hi[3];
-  for (std::size_t k = 0; k < 3; ++k) {
-    lo[k] = lowest[k];
-    hi[k] = highest[k];
-    header.center[k] = header_float(0.5 * (lo[k] + hi[k]), "bounding-box centre", false);
-  }
-  double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                              (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  if (!(diagonal > 0)) diagonal = 1.0;
-  header.step = std::ldexp(diagonal, -options.precision_bits);
-  // Each channel: centred on the middle of each component's range, one step for all its
-  // components from the widest range.
-  std::size_t offset = 3;
-  for (const VertexChannel& c : input.channels) {
-    ChannelQuantization hc;
-    hc.components = c.components;
-    double range = 0;
-    for (int k = 0; k < c.components; ++k) {
-      const std::size_t i = offset + static_cast<std::size_t>(k);
-      const double low = lowest[i], high = highest[i];
-      hc.center.push_back(header_float(0.5 * (low + high), "channel centre", false));
-      range = std::max(range, high - low);
-    }
-    hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
-    header.channels.push_back(std::move(hc));
-    offset += static_cast<std::size_t>(c.components);
-  }
 
-  // Analysis of the centred values: base values at [0, V0), details at the odd vertices.
-  std::vector<double> centre(header.center.begin(), header.center.end());
-  for (const ChannelQuantization& c : header.channels) centre.insert(centre.end(), c.center.begin(), c.center.end());
-  for (std::uint32_t v = 0; v < V; ++v)
-    for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
-  const WaveletTransform transform(h, {header.scheme, header.mean_preserving_update});
-  transform.analyze(values, K);
-  // The level weights' impulses in zeros, resident before the base vertex's whole synthesis
-  // writes them (large_array.h: one system call for the pages instead of a fault each).
-  {
-    std::vector<double> impulses;
-    assign_large(impulses, V, 0.0);
-    header.level_weights = level_weights(h, transform, impulses);
-    for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
-  }
+    // The values centred (on the header's centres: the decoder adds the same).
+    std::vector<double> centre(header.center.begin(), header.center.end());
+    for (const ChannelQuantization& c : header.channels) centre.insert(centre.end(), c.center.begin(), c.center.end());
+    for (std::uint32_t v = 0; v < V; ++v)
+      for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
+  });
+  const WaveletTransform& transform = *transform_tables;
+  // The coefficient tree for the bit planes, built alongside the analysis.
+  std::optional<zerotree::Forest> forest;
+  run_both(
+      concurrent,
+      [&] {
+        // The level weights' impulses in zeros, resident before the base vertex's whole synthesis
+        // writes them (large_array.h: one system call for the pages instead of a fault each).
+        std::vector<double> impulses;
+        assign_large(impulses, V, 0.0);
+        header.level_weights = level_weights(h, transform, impulses);
+        for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
+      },
+      [&] {
+        // Analysis of the centred values: base values at [0, V0), details at the odd vertices.
+        transform.analyze(values, K);
+        forest.emplace(h);
+      });
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
@@ -326,22 +347,23 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   zerotree::Quantized q;
   q.components = K;
   q.allocate(values.size());  // every record written below
-  bool too_fine = false;  // thrown after the loops below, which then have no exit
   // Quantizes the coefficients of vertices [first, first + count) of level j (quantize.h); if
   // `reconstruction` is given, writes there what the decoder will reconstruct from them at full
-  // rate (it may be `values` itself: each is written after its coefficient is read).
+  // rate (it may be `values` itself: each is written after its coefficient is read). Returns
+  // whether a step was too fine for a coefficient (thrown after the loops below).
   auto quantize_vertices = [&](int j, std::size_t first, std::size_t count, double* reconstruction) {
     const std::size_t i = k_stride * first;
-    too_fine |= quantize(&values[i], k_stride * count, K, (j == 0 ? base_step : detail_step).data(),
-                         header.level_weights[static_cast<std::size_t>(j)], q.coefficients.get() + i,
-                         reconstruction != nullptr ? reconstruction + i : nullptr);
+    return quantize(&values[i], k_stride * count, K, (j == 0 ? base_step : detail_step).data(),
+                    header.level_weights[static_cast<std::size_t>(j)], q.coefficients.get() + i,
+                    reconstruction != nullptr ? reconstruction + i : nullptr);
   };
   auto quantize_level = [&](int j, double* reconstruction) {
     const std::size_t first = j == 0 ? 0 : h.vertex_count(j - 1);
-    quantize_vertices(j, first, h.vertex_count(j) - first, reconstruction);
+    return quantize_vertices(j, first, h.vertex_count(j) - first, reconstruction);
   };
+  bool too_fine = false;
   if (!header.local_frames) {
-    for (int j = 0; j <= L; ++j) quantize_level(j, nullptr);
+    for (int j = 0; j <= L; ++j) too_fine |= quantize_level(j, nullptr);
   } else {
     // The closed loop's reconstruction in the coefficients' own array: once a vertex's
     // coefficients are quantized nothing reads them again, so each is overwritten by what the
@@ -352,19 +374,30 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     // it at full rate (quantized coarser levels, synthesized), not from the exact one, so both
     // sides rotate by the same frames bit for bit. Every value of `decoded` a synthesis reads has
     // been written by then (the base, then each level's odd vertices before its synthesis).
-    quantize_level(0, decoded.data());
+    too_fine |= quantize_level(0, decoded.data());
     for (int j = 0; j < L; ++j) {
       // The level's frames computed once for both rotations, a block at a time: the block's odd
       // vertices' details into their frames, quantized, their reconstructions back (the same
-      // operations as three passes over the level: no vertex reads another's values here).
-      frames::for_each_frame_block(h, j, decoded, K, [&](const frames::FrameBlock& block) {
-        const std::size_t first = h.odd_vertex(j, block.first_edge);
-        for (std::uint32_t i = 0; i < block.count; ++i)
-          block.rotate(i, &values[k_stride * (first + i)], frames::Direction::to_local);
-        quantize_vertices(j + 1, first, block.count, decoded.data());
-        for (std::uint32_t i = 0; i < block.count; ++i)
-          block.rotate(i, &decoded[k_stride * (first + i)], frames::Direction::to_global);
-      });
+      // operations as three passes over the level: no vertex reads another's values here, so
+      // the two halves of the level's edges may run side by side).
+      const frames::LevelFrames level_frames(h, j, decoded, K);
+      auto close_loop = [&](std::uint32_t begin, std::uint32_t end) {
+        bool too_fine_here = false;
+        level_frames.for_each_block(begin, end, [&](const frames::FrameBlock& block) {
+          const std::size_t first = h.odd_vertex(j, block.first_edge);
+          for (std::uint32_t i = 0; i < block.count; ++i)
+            block.rotate(i, &values[k_stride * (first + i)], frames::Direction::to_local);
+          too_fine_here |= quantize_vertices(j + 1, first, block.count, decoded.data());
+          for (std::uint32_t i = 0; i < block.count; ++i)
+            block.rotate(i, &decoded[k_stride * (first + i)], frames::Direction::to_global);
+        });
+        return too_fine_here;
+      };
+      const std::uint32_t edges = level_frames.edge_count(), half = edges / 2;
+      bool first_half = false, second_half = false;
+      run_both(
+          concurrent, [&] { second_half = close_loop(half, edges); }, [&] { first_half = close_loop(0, half); });
+      too_fine |= first_half || second_half;
       transform.synthesize(decoded, K, j + 1, j);
     }
   }
@@ -379,7 +412,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // The base part, then the bit planes (FORMAT.md §5).
   RangeEncoder coefficient_encoder;
   base_values::encode(h.topology(0), q, header.base_plane, header.top_plane, coefficient_encoder);
-  zerotree::encode(zerotree::Forest(h), q, header.top_plane, header.base_plane, coefficient_encoder);
+  zerotree::encode(*forest, q, header.top_plane, header.base_plane, coefficient_encoder);
   const std::vector<std::uint8_t> coefficients = coefficient_encoder.finish();
 
   ContainerWriter writer;

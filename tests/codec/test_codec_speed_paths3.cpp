@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "../../codec/canonical_order.h"
 #include "../../codec/local_frames.h"
 #include "../../codec/quantize.h"
 #include "../../codec/zerotree_coder.h"
@@ -219,4 +220,49 @@ TEST_CASE("the quantizer four coefficients at a time gives the bits of FORMAT.md
         REQUIRE(quantize(x.data(), n, components, steps.data(), weight, out.data(), nullptr) == expected_too_fine);
         REQUIRE(same_records());
       }
+}
+
+TEST_CASE("the encoder writes the same bytes on 1 and 2 threads, and from a mesh in canonical order already", "[codec]") {
+  // Channels, a boundary, and each scheme with and without local frames (the closed loop's two
+  // halves of each level's edges run side by side on 2 threads).
+  // The disk's base with its vertices numbered backwards: not the coder's traversal order.
+  TriangleMesh base = test::disk(7);
+  const std::uint32_t n = static_cast<std::uint32_t>(base.positions.size() / 3);
+  TriangleMesh backwards = base;
+  for (std::uint32_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) backwards.positions[3 * (n - 1 - v) + k] = base.positions[3 * v + k];
+  for (std::uint32_t& v : backwards.triangles) v = n - 1 - v;
+  SemiRegularMesh given = refine_linear(backwards, 3);
+  const std::vector<double> noise = test::random_values(given.positions.size(), 9);
+  for (std::size_t i = 0; i < given.positions.size(); ++i) given.positions[i] += 0.01 * noise[i];
+  VertexChannel scalar{1, {}};
+  for (std::size_t v = 0; v < given.positions.size() / 3; ++v) scalar.values.push_back(std::sin(5 * given.positions[3 * v]));
+  given.channels = {scalar};
+  const SemiRegularMesh ordered = canonical_order(given);
+  REQUIRE_FALSE(is_canonical(given));  // else the two inputs would take the same path
+  REQUIRE(is_canonical(ordered));
+  REQUIRE(is_canonical(mesh_with_channels(2)));
+  for (const Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop}) {
+    for (const bool frames : {false, true}) {
+      INFO("scheme " << static_cast<int>(scheme) << ", frames " << frames);
+      EncodeOptions o;
+      o.scheme = scheme;
+      o.local_frames = frames;
+      o.threads = 1;
+      const std::vector<std::uint8_t> reference = encode(given, o);
+      CHECK(encode(ordered, o) == reference);
+      o.threads = 2;
+      CHECK(encode(given, o) == reference);
+      CHECK(encode(ordered, o) == reference);
+      o.threads = 0;
+      CHECK(encode(ordered, o) == reference);
+    }
+  }
+  // A precision too fine is refused from either half of a level, on either thread count.
+  EncodeOptions fine;
+  fine.precision_bits = 40;
+  for (const unsigned threads : {1u, 2u}) {
+    fine.threads = threads;
+    CHECK_THROWS_AS(encode(ordered, fine), MeshError);
+  }
 }

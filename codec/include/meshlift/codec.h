@@ -36,6 +36,9 @@ struct EncodeOptions {
   /// Cut the embedded stream to at most this many bytes (whole file, headers included). Below
   /// the header and base mesh (the smallest stream that decodes), encode() throws MeshError.
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
+  /// Threads the encoder may use: 0 for every core, 1 for the caller's alone. Independent stages
+  /// run side by side on 2 (docs/RESULTS.md); the bytes do not depend on it.
+  unsigned threads = 0;
 };
 
 /// The same mesh with its vertices and faces in the order a stream stores them: the base in the
