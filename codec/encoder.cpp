@@ -412,7 +412,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // The base part, then the bit planes (FORMAT.md §5).
   RangeEncoder coefficient_encoder;
   base_values::encode(h.topology(0), q, header.base_plane, header.top_plane, coefficient_encoder);
-  zerotree::encode(*forest, q, header.top_plane, header.base_plane, coefficient_encoder);
+  zerotree::encode(*forest, q, header.top_plane, header.base_plane, coefficient_encoder, concurrent);
   const std::vector<std::uint8_t> coefficients = coefficient_encoder.finish();
 
   ContainerWriter writer;

@@ -1,9 +1,12 @@
 #include "zerotree_coder.h"
 
+#include "concurrent.h"
 #include "large_array.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <type_traits>
@@ -183,7 +186,7 @@ constexpr std::size_t kPrefetchDistance = 16;
 // Returns false where the decoder's input ran out; `lists` then hold what was decoded.
 template <class Io>
 bool run(const Forest& f, int components, int top, int base_plane, const std::int64_t* base_high, Io& caller_io,
-         std::vector<ComponentLists>& lists) {
+         std::vector<ComponentLists>& lists, Models& models) {
   constexpr bool kEncoder = Io::kEncoder;
   // The passes work on a local Io, handed back on every exit: a local whose address does not
   // escape can live in registers (the decoder's range and code), where one behind a reference
@@ -195,7 +198,6 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
   };
   Io io(std::move(caller_io));
   const HandBack hand_back{caller_io, io};
-  Models models;
   // The children of a vertex that has some (only those have LIS entries): a root's from its
   // offsets, an odd vertex's from its 4 slots.
   const std::uint32_t roots = f.roots;
@@ -444,13 +446,79 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
 /// Bit width of x (0 for 0): x >> n != 0 exactly when bit_width(x) > n.
 std::uint8_t width(std::uint32_t x) { return static_cast<std::uint8_t>(std::bit_width(x)); }
 
+/// The decisions of the passes on their way to the range coder on another thread: a model's
+/// index in Models (as BitModels) and the bit, in slots of kSlotSize that the writer fills and
+/// hands over one at a time (a single writer and a single reader; at most kSlots in flight).
+class DecisionQueue {
+ public:
+  static constexpr std::size_t kSlots = 8, kSlotSize = std::size_t{1} << 15;  // 64 KiB a slot
+  static_assert(std::is_standard_layout_v<Models> && sizeof(Models) % sizeof(BitModel) == 0 &&
+                    sizeof(Models) / sizeof(BitModel) < (1u << 15),
+                "Models is an array of BitModels whose index and a bit fit 16 bits");
+
+  DecisionQueue() : decisions_(std::make_unique_for_overwrite<std::uint16_t[]>(kSlots * kSlotSize)) {}
+
+  // Writer side.
+  void push(std::uint16_t decision) {
+    slot_[size_++] = decision;
+    if (size_ == kSlotSize) hand_over(false);
+  }
+  /// The last slot, however full: the reader stops after it.
+  void finish() { hand_over(true); }
+
+  // Reader side: calls code(decision) for every decision in order, until the last slot.
+  template <class Code>
+  void read(Code&& code) {
+    for (std::uint64_t n = 0;; ++n) {
+      std::uint64_t ready;
+      while ((ready = written_.load(std::memory_order_acquire)) <= n) written_.wait(ready, std::memory_order_acquire);
+      const std::uint32_t entry = sizes_[n % kSlots];
+      const std::uint16_t* d = decisions_.get() + (n % kSlots) * kSlotSize;
+      for (std::uint32_t i = 0, count = entry & ~kLast; i < count; ++i) code(d[i]);
+      read_.store(n + 1, std::memory_order_release);
+      read_.notify_one();
+      if (entry & kLast) return;
+    }
+  }
+
+ private:
+  static constexpr std::uint32_t kLast = std::uint32_t{1} << 31;
+
+  void hand_over(bool last) {
+    sizes_[slots_written_ % kSlots] = static_cast<std::uint32_t>(size_) | (last ? kLast : 0);
+    written_.store(++slots_written_, std::memory_order_release);
+    written_.notify_one();
+    if (last) return;
+    // The next slot once the reader is done with it.
+    std::uint64_t done;
+    while (slots_written_ - (done = read_.load(std::memory_order_acquire)) >= kSlots) read_.wait(done, std::memory_order_acquire);
+    slot_ = decisions_.get() + (slots_written_ % kSlots) * kSlotSize;
+    size_ = 0;
+  }
+
+  std::unique_ptr<std::uint16_t[]> decisions_;
+  std::uint32_t sizes_[kSlots] = {};
+  std::atomic<std::uint64_t> written_{0}, read_{0};  // slots handed over, slots coded
+  // The writer's own.
+  std::uint16_t* slot_ = decisions_.get();
+  std::size_t size_ = 0;
+  std::uint64_t slots_written_ = 0;
+};
+
 class EncoderIo {
  public:
   static constexpr bool kEncoder = true;
 
-  /// Reads and completes q's records (their widths), which the passes then read in place.
-  EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder)
-      : coefficients_(q.coefficients.get()), encoder_(&encoder), k_(static_cast<std::size_t>(q.components)) {
+  /// Reads and completes q's records (their widths), which the passes then read in place. Codes
+  /// every decision with `encoder`, or, given a queue, writes it there as the index of its model
+  /// among `models` (the passes' own) and its bit.
+  EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder, DecisionQueue* queue = nullptr,
+            const Models* models = nullptr)
+      : coefficients_(q.coefficients.get()),
+        encoder_(&encoder),
+        queue_(queue),
+        models_(reinterpret_cast<const BitModel*>(models)),
+        k_(static_cast<std::size_t>(q.components)) {
     if (k_ == kGeometryComponents)
       fill_widths<kGeometryComponents>(f);
     else
@@ -458,7 +526,10 @@ class EncoderIo {
   }
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
-    encoder_->encode(m, value ? 1 : 0);
+    if (queue_ != nullptr)
+      queue_->push(static_cast<std::uint16_t>((&m - models_) << 1 | (value ? 1 : 0)));
+    else
+      encoder_->encode(m, value ? 1 : 0);
     return value ? 1 : 0;
   }
   void prefetch(std::uint32_t v, int c) const { __builtin_prefetch(&coefficients_[index(v, c)]); }
@@ -503,6 +574,8 @@ class EncoderIo {
   std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
   Coefficient* coefficients_;
   RangeEncoder* encoder_;
+  DecisionQueue* queue_;
+  const BitModel* models_;
   std::size_t k_;
 };
 
@@ -529,16 +602,47 @@ class DecoderIo {
 
 }  // namespace
 
-void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEncoder& encoder) {
+void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEncoder& encoder, bool concurrent) {
   if (q.components < 1 || q.components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   if (q.size != std::size_t{forest.vertex_count()} * static_cast<std::size_t>(q.components))
     throw std::invalid_argument("zerotree: the coefficients are not the forest's vertices times the components");
   if (top < 0) return;
-  EncoderIo io(forest, q, encoder);
   std::vector<ComponentLists> lists;
   lists.reserve(static_cast<std::size_t>(q.components));
   for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true);
-  run(forest, q.components, top, base_plane, nullptr, io, lists);
+  Models models;
+  if (!concurrent) {
+    EncoderIo io(forest, q, encoder);
+    run(forest, q.components, top, base_plane, nullptr, io, lists, models);
+    return;
+  }
+  // The coder's models start as the passes' do and see the same decisions in the same order, so
+  // each holds at every decision the probability it would hold on one thread.
+  DecisionQueue queue;
+  run_both(
+      true,
+      [&] {
+        Models coded;
+        BitModel* const model = reinterpret_cast<BitModel*>(&coded);
+        // Every decision is read (the writer waits for free slots), even after a failure here.
+        std::exception_ptr failure;
+        queue.read([&](std::uint16_t d) {
+          if (!failure) try {
+              encoder.encode(model[d >> 1], d & 1);
+            } catch (...) {
+              failure = std::current_exception();
+            }
+        });
+        if (failure) std::rethrow_exception(failure);
+      },
+      [&] {
+        struct Finish {
+          DecisionQueue& queue;
+          ~Finish() { queue.finish(); }  // also if the passes throw: the reader must not wait forever
+        } finish{queue};
+        EncoderIo io(forest, q, encoder, &queue, &models);
+        run(forest, q.components, top, base_plane, nullptr, io, lists, models);
+      });
 }
 
 Decoded decode(const Forest& forest, int components, int top, int base_plane, std::span<const std::int64_t> base_high,
@@ -557,7 +661,8 @@ Decoded decode(const Forest& forest, int components, int top, int base_plane, st
   lists.reserve(static_cast<std::size_t>(components));
   for (int c = 0; c < components; ++c) lists.emplace_back(forest, false);
   DecoderIo io(decoder);
-  out.complete = run(forest, components, top, base_plane, base_high.data(), io, lists);
+  Models models;
+  out.complete = run(forest, components, top, base_plane, base_high.data(), io, lists, models);
   decoder = io.decoder();
   out.last_plane = io.last_plane();
   for (ComponentLists& l : lists) out.significant.push_back(std::move(l.lsp));

@@ -87,7 +87,11 @@ int top_plane(const Quantized& q);
 /// before): a base coefficient with bits there starts in the LSP, the others in the LIP, and
 /// both are first tested or refined at plane base_plane - 1 (FORMAT.md §5.2). base_plane >
 /// top_plane: the base is coded here like every vertex (nothing before).
-void encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder);
+/// `concurrent`: the passes, which decide every bit from the magnitudes alone, run on the
+/// caller's thread while a second thread range-codes their decisions as they come (a queue of
+/// model indices and bits between them); the same bytes as on one thread.
+void encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder,
+            bool concurrent = false);
 
 /// SPIHT's list of significant coefficients (LSP) of one component, in the order they became
 /// significant, as parallel arrays of capacity `capacity` (pages become resident as they fill):
