@@ -253,7 +253,9 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   std::vector<double> values;
   // With more than one thread, the independent stages run side by side (concurrent.h): the
   // transform's tables while the values are gathered, the level weights while they are analyzed.
-  const bool concurrent = (options.threads == 0 ? std::thread::hardware_concurrency() : options.threads) > 1;
+  const bool concurrent = options.threads == 0
+                              ? std::thread::hardware_concurrency() > 1 && V >= EncodeOptions::kConcurrentEncodeVertices
+                              : options.threads > 1;
   std::optional<WaveletTransform> transform_tables;
   const WaveletOptions wavelet{header.scheme, header.mean_preserving_update};
   run_both(concurrent, [&] { transform_tables.emplace(h, wavelet); }, [&] {

@@ -36,9 +36,12 @@ struct EncodeOptions {
   /// Cut the embedded stream to at most this many bytes (whole file, headers included). Below
   /// the header and base mesh (the smallest stream that decodes), encode() throws MeshError.
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();
-  /// Threads the encoder may use: 0 for every core, 1 for the caller's alone. Independent stages
-  /// run side by side on 2 (docs/RESULTS.md); the bytes do not depend on it.
+  /// Threads the encoder may use: 1 for the caller's alone, N >= 2 for independent stages side by
+  /// side on 2 (docs/RESULTS.md), 0 for that on a machine with more than one core and a mesh of
+  /// kConcurrentEncodeVertices or more (below, starting threads costs more than they save). The
+  /// bytes never depend on it.
   unsigned threads = 0;
+  static constexpr std::uint32_t kConcurrentEncodeVertices = 1u << 15;
 };
 
 /// The same mesh with its vertices and faces in the order a stream stores them: the base in the
