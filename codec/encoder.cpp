@@ -321,8 +321,11 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
   });
   const WaveletTransform& transform = *transform_tables;
-  // The coefficient tree for the bit planes, built alongside the analysis.
+  // The coefficient tree for the bit planes, built alongside the analysis, and the quantized
+  // records' pages made resident (every record is written below; the level weights take longer).
   std::optional<zerotree::Forest> forest;
+  zerotree::Quantized q;
+  q.components = K;
   run_both(
       concurrent,
       [&] {
@@ -337,6 +340,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
         // Analysis of the centred values: base values at [0, V0), details at the odd vertices.
         transform.analyze(values, K);
         forest.emplace(h);
+        q.allocate(values.size());
+        populate(q.coefficients.get(), q.size * sizeof(zerotree::Quantized::Coefficient));
       });
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
@@ -346,9 +351,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
     detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
   }
-  zerotree::Quantized q;
-  q.components = K;
-  q.allocate(values.size());  // every record written below
   // Quantizes the coefficients of vertices [first, first + count) of level j (quantize.h); if
   // `reconstruction` is given, writes there what the decoder will reconstruct from them at full
   // rate (it may be `values` itself: each is written after its coefficient is read). Returns
@@ -400,7 +402,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       run_both(
           concurrent, [&] { second_half = close_loop(half, edges); }, [&] { first_half = close_loop(0, half); });
       too_fine |= first_half || second_half;
-      transform.synthesize(decoded, K, j + 1, j);
+      transform.synthesize(decoded, K, j + 1, j, concurrent);
     }
   }
   if (too_fine)

@@ -22,6 +22,8 @@
 #include <string>
 
 #include "meshlift/lifting.h"
+
+#include "concurrent.h"
 #include "stencils.h"
 
 namespace meshlift {
@@ -133,50 +135,68 @@ const std::uint32_t* analyze_run(double* __restrict x, double* __restrict target
   return idx;
 }
 
-// One step, run by run. The regular rows take a specialized loop: 2 sources (linear, boundary),
-// 4 (Loop interior edge, 4-point), 6 and 8 (Loop even vertex, butterfly); the rest (extraordinary
-// vertices) the generic one.
+// One step, run by run, its rows [begin, end) (no row reads another row's target, so any split
+// of the rows computes the same bits). The regular rows take a specialized loop: 2 sources
+// (linear, boundary), 4 (Loop interior edge, 4-point), 6 and 8 (Loop even vertex, butterfly);
+// the rest (extraordinary vertices) the generic one.
 template <bool Synthesis, int C>
-void apply_step(const LiftingStep& s, double* x, int channels) {
+void apply_step(const LiftingStep& s, double* x, int channels, std::uint32_t begin, std::uint32_t end) {
   const int n = C > 0 ? C : channels;
   const std::uint32_t* idx = s.indices.data();
-  double* target = x + static_cast<std::size_t>(s.first_target) * n;
+  std::uint32_t row = 0;  // the run's first row
   for (const LiftingStep::Run& run : s.runs) {
     const LiftingStep::Pattern& p = s.patterns[run.pattern];
-    const double* w = s.pattern_weights.data() + p.first_weight;
-    auto apply = [&]<int A>() {
-      idx = Synthesis ? synthesize_run<C, A>(x, target, idx, p, w, run.rows, n)
-                      : analyze_run<C, A>(x, target, idx, p, w, run.rows, n);
-    };
-    switch (p.arity) {
-      case 2:
-        apply.template operator()<2>();
-        break;
-      case 4:
-        apply.template operator()<4>();
-        break;
-      case 6:
-        apply.template operator()<6>();
-        break;
-      case 8:
-        apply.template operator()<8>();
-        break;
-      default:
-        apply.template operator()<0>();
+    const std::uint32_t run_end = row + run.rows, first = std::max(row, begin), last = std::min(run_end, end);
+    if (first < last) {
+      const double* w = s.pattern_weights.data() + p.first_weight;
+      const std::uint32_t* from = idx + std::size_t{first - row} * p.arity;
+      double* target = x + (std::size_t{s.first_target} + first) * static_cast<std::size_t>(n);
+      auto apply = [&]<int A>() {
+        Synthesis ? synthesize_run<C, A>(x, target, from, p, w, last - first, n)
+                  : analyze_run<C, A>(x, target, from, p, w, last - first, n);
+      };
+      switch (p.arity) {
+        case 2:
+          apply.template operator()<2>();
+          break;
+        case 4:
+          apply.template operator()<4>();
+          break;
+        case 6:
+          apply.template operator()<6>();
+          break;
+        case 8:
+          apply.template operator()<8>();
+          break;
+        default:
+          apply.template operator()<0>();
+      }
     }
-    target += static_cast<std::size_t>(run.rows) * n;
+    if (run_end >= end) break;
+    idx += std::size_t{run.rows} * p.arity;
+    row = run_end;
   }
 }
 
 template <bool Synthesis>
-void apply_step(const LiftingStep& s, double* x, int channels) {
+void apply_step(const LiftingStep& s, double* x, int channels, std::uint32_t begin, std::uint32_t end) {
   // Positions (3) and single channels (1) get unrolled loops.
   if (channels == 3)
-    apply_step<Synthesis, 3>(s, x, 3);
+    apply_step<Synthesis, 3>(s, x, 3, begin, end);
   else if (channels == 1)
-    apply_step<Synthesis, 1>(s, x, 1);
+    apply_step<Synthesis, 1>(s, x, 1, begin, end);
   else
-    apply_step<Synthesis, 0>(s, x, channels);
+    apply_step<Synthesis, 0>(s, x, channels, begin, end);
+}
+
+/// The whole step; on two threads (each half of the rows) when asked and the step is large.
+template <bool Synthesis>
+void apply_step(const LiftingStep& s, double* x, int channels, bool concurrent = false) {
+  constexpr std::uint32_t kConcurrentRows = 1u << 14;
+  const std::uint32_t rows = s.row_count, half = rows / 2;
+  run_both(
+      concurrent && rows >= kConcurrentRows, [&] { apply_step<Synthesis>(s, x, channels, half, rows); },
+      [&] { apply_step<Synthesis>(s, x, channels, 0, half); });
 }
 
 // Loop's predict step of a refined level applied as its rows are read off the coarse faces
@@ -263,7 +283,7 @@ void WaveletTransform::analyze(std::span<double> values, int channels) const {
   }
 }
 
-void WaveletTransform::synthesize(std::span<double> values, int channels, int to_level, int from_level) const {
+void WaveletTransform::synthesize(std::span<double> values, int channels, int to_level, int from_level, bool concurrent) const {
   check_channels(channels);
   if (to_level < 0) to_level = levels();
   if (to_level > levels()) throw std::invalid_argument("synthesize: to_level exceeds the hierarchy's levels");
@@ -272,7 +292,7 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
     throw std::invalid_argument("synthesize: values hold fewer vertices than the requested level");
   require_tables(from_level, to_level);
   for (int j = from_level; j < to_level; ++j)
-    for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels);
+    for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels, concurrent);
 }
 
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,

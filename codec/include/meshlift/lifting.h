@@ -88,8 +88,10 @@ class WaveletTransform {
   /// Base values + details -> values of the mesh at `to_level` (in the first
   /// vertex_count(to_level) vertices); in place. to_level = -1 means the finest level.
   /// from_level > 0 starts from values that already are those of the mesh at from_level (the
-  /// first vertex_count(from_level) vertices) and runs only the levels from there.
-  void synthesize(std::span<double> values, int channels = 3, int to_level = -1, int from_level = 0) const;
+  /// first vertex_count(from_level) vertices) and runs only the levels from there. `concurrent`:
+  /// each large step's rows in two halves on two threads (the same bits: no row reads another's).
+  void synthesize(std::span<double> values, int channels = 3, int to_level = -1, int from_level = 0,
+                  bool concurrent = false) const;
 
   int levels() const { return static_cast<int>(steps_.size()); }
   const WaveletOptions& options() const { return options_; }
