@@ -94,29 +94,44 @@ namespace {
 constexpr int kLevelContexts = kMaxLevels + 1;
 
 // FORMAT.md §5 (version 2). The level is that of the vertex tested (for the sets: whose set it is).
-struct Models {
-  BitModel lip[kLevelContexts][kMaxComponents];
+// One array, so that a model has an index (the two-thread encoder queues decisions by it).
+class Models {
+ public:
+  BitModel& lip(int level, int c) { return model(level, c, kLip); }
   // By how many siblings were significant before (capped at 3), and the child's position among
   // its parent's children (capped at 3: halves first, then the inner edges).
-  BitModel child[kLevelContexts][kMaxComponents][4][4];
+  BitModel& child(int level, int c, int found, int position) { return model(level, c, kChild + 4 * found + position); }
   // By whether the set's vertex is significant itself in this component.
-  BitModel set_descendants[kLevelContexts][kMaxComponents][2];
-  BitModel set_grandchildren[kLevelContexts][kMaxComponents][2];
-  BitModel refine[kLevelContexts][kMaxComponents];
+  BitModel& set_descendants(int level, int c, int own) { return model(level, c, kSetDescendants + own); }
+  BitModel& set_grandchildren(int level, int c, int own) { return model(level, c, kSetGrandchildren + own); }
+  BitModel& refine(int level, int c) { return model(level, c, kRefine); }
   // By the parent's coefficient in this component: not significant (or a root), positive, negative.
-  BitModel sign[kLevelContexts][kMaxComponents][3];
+  BitModel& sign(int level, int c, int parent) { return model(level, c, kSign + parent); }
+
+  static constexpr int kPerComponent = 25;
+  static constexpr std::size_t kCount = std::size_t{kLevelContexts} * kMaxComponents * kPerComponent;
+  std::size_t index(const BitModel& m) const { return static_cast<std::size_t>(&m - all_); }
+  BitModel& operator[](std::size_t i) { return all_[i]; }
 
   // The LIP's significance and the signs drift fastest along the lists (across the surface):
   // their models settle at shift 4 (count_max 7), the others at shift 5 (FORMAT.md §5).
   static constexpr std::uint8_t kFastCountMax = 7;
   static_assert(kFastCountMax <= range_coder::kCountMax, "BitModel::count_max indexes kShiftForCount");
   Models() {
-    for (auto& level : lip)
-      for (BitModel& m : level) m.count_max = kFastCountMax;
-    for (auto& level : sign)
-      for (auto& component : level)
-        for (BitModel& m : component) m.count_max = kFastCountMax;
+    for (int level = 0; level < kLevelContexts; ++level)
+      for (int c = 0; c < kMaxComponents; ++c) {
+        lip(level, c).count_max = kFastCountMax;
+        for (int parent = 0; parent < 3; ++parent) sign(level, c, parent).count_max = kFastCountMax;
+      }
   }
+
+ private:
+  // Each (level, component)'s models: the LIP's, 16 children's, 2 + 2 sets', the refinement's, 3 signs'.
+  static constexpr int kLip = 0, kChild = 1, kSetDescendants = 17, kSetGrandchildren = 19, kRefine = 21, kSign = 22;
+  BitModel& model(int level, int c, int k) {
+    return all_[static_cast<std::size_t>((level * kMaxComponents + c) * kPerComponent + k)];
+  }
+  BitModel all_[kCount];
 };
 
 // What the contexts read of a coefficient coded so far (2 bits per vertex and component).
@@ -302,7 +317,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
       auto newly_significant = [&](std::uint32_t v, std::uint8_t tag, std::uint32_t magnitude) {
         const int level = tag & kTagLevelMask;
         const int negative =
-            io.bit(models.sign[level][c][(tag >> kParentStateShift) & 3], kEncoder && (tag & kNegativeTag) != 0);
+            io.bit(models.sign(level, c, (tag >> kParentStateShift) & 3), kEncoder && (tag & kNegativeTag) != 0);
         if (negative < 0) return false;
         if (v < stateful)
           component_state[v >> 2] |= static_cast<std::uint8_t>((negative ? kSignificantNegative : kSignificant) << (2 * (v & 3)));
@@ -321,7 +336,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
         const std::uint32_t v = lip_vertex[i];
         const std::uint8_t tag = lip_tag[i];
         const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
-        const int s = io.bit(models.lip[tag & kTagLevelMask][c], kEncoder && (magnitude >> n) != 0);
+        const int s = io.bit(models.lip(tag & kTagLevelMask, c), kEncoder && (magnitude >> n) != 0);
         if (s < 0) return stop();
         if (s) {
           if (!newly_significant(v, tag, magnitude)) return stop();
@@ -366,7 +381,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
         const std::uint8_t own_state = state_of(v);
         const int s = (lis_tag[i] & kImpliedTag) != 0
                           ? 1
-                          : io.bit((type_b ? models.set_grandchildren : models.set_descendants)[level][c][own_state != 0],
+                          : io.bit(type_b ? models.set_grandchildren(level, c, own_state != 0) : models.set_descendants(level, c, own_state != 0),
                                    kEncoder && lis_width[i] > n);
         if (s < 0) return stop();
         if (!s) {
@@ -390,7 +405,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
                                                              (kEncoder && io.negative(child, c) ? kNegativeTag : 0));
             const int cs = children_only && found == 0 && k + 1 == count
                                ? 1
-                               : io.bit(models.child[level + 1][c][std::min(found, 3)][std::min<std::uint32_t>(k, 3)],
+                               : io.bit(models.child(level + 1, c, std::min(found, 3), static_cast<int>(std::min<std::uint32_t>(k, 3))),
                                         kEncoder && (magnitude >> n) != 0);
             if (cs < 0) return stop();
             if (cs) {
@@ -429,7 +444,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
       const std::size_t refine_count = l.lsp.refine_count;
       for (std::size_t i = above_base ? l.lsp.preset : 0; i < refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
-        const int b = io.bit(models.refine[lsp_tag[i] & kLevelMask][c], kEncoder && (magnitude & bit_n) != 0);
+        const int b = io.bit(models.refine(lsp_tag[i] & kLevelMask, c), kEncoder && (magnitude & bit_n) != 0);
         if (b < 0) {
           l.lsp.refined = i;
           return stop();
@@ -452,9 +467,7 @@ std::uint8_t width(std::uint32_t x) { return static_cast<std::uint8_t>(std::bit_
 class DecisionQueue {
  public:
   static constexpr std::size_t kSlots = 8, kSlotSize = std::size_t{1} << 15;  // 64 KiB a slot
-  static_assert(std::is_standard_layout_v<Models> && sizeof(Models) % sizeof(BitModel) == 0 &&
-                    sizeof(Models) / sizeof(BitModel) < (1u << 15),
-                "Models is an array of BitModels whose index and a bit fit 16 bits");
+  static_assert(Models::kCount < (1u << 15), "a model's index and a bit fit 16 bits");
 
   DecisionQueue() : decisions_(std::make_unique_for_overwrite<std::uint16_t[]>(kSlots * kSlotSize)) {}
 
@@ -513,11 +526,11 @@ class EncoderIo {
   /// every decision with `encoder`, or, given a queue, writes it there as the index of its model
   /// among `models` (the passes' own) and its bit.
   EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder, DecisionQueue* queue = nullptr,
-            const Models* models = nullptr)
+            Models* models = nullptr)
       : coefficients_(q.coefficients.get()),
         encoder_(&encoder),
         queue_(queue),
-        models_(reinterpret_cast<const BitModel*>(models)),
+        models_(models),
         k_(static_cast<std::size_t>(q.components)) {
     if (k_ == kGeometryComponents)
       fill_widths<kGeometryComponents>(f);
@@ -527,7 +540,7 @@ class EncoderIo {
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
     if (queue_ != nullptr)
-      queue_->push(static_cast<std::uint16_t>((&m - models_) << 1 | (value ? 1 : 0)));
+      queue_->push(static_cast<std::uint16_t>(models_->index(m) << 1 | (value ? 1 : 0)));
     else
       encoder_->encode(m, value ? 1 : 0);
     return value ? 1 : 0;
@@ -575,7 +588,7 @@ class EncoderIo {
   Coefficient* coefficients_;
   RangeEncoder* encoder_;
   DecisionQueue* queue_;
-  const BitModel* models_;
+  const Models* models_;
   std::size_t k_;
 };
 
@@ -623,12 +636,11 @@ void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
       true,
       [&] {
         Models coded;
-        BitModel* const model = reinterpret_cast<BitModel*>(&coded);
         // Every decision is read (the writer waits for free slots), even after a failure here.
         std::exception_ptr failure;
         queue.read([&](std::uint16_t d) {
           if (!failure) try {
-              encoder.encode(model[d >> 1], d & 1);
+              encoder.encode(coded[d >> 1], d & 1);
             } catch (...) {
               failure = std::current_exception();
             }
