@@ -15,6 +15,7 @@
 #include "../../codec/quantize.h"
 #include "../../codec/zerotree_coder.h"
 #include "meshlift/codec.h"
+#include "meshlift/lifting.h"
 #include "test_meshes.h"
 
 using namespace meshlift;
@@ -265,4 +266,44 @@ TEST_CASE("the encoder writes the same bytes on 1 and 2 threads, and from a mesh
     fine.threads = threads;
     CHECK_THROWS_AS(encode(ordered, fine), MeshError);
   }
+}
+
+TEST_CASE("synthesis with each large step in two halves on two threads gives the bits of one pass", "[lifting]") {
+  // Level 5 -> 6 of the refined icosahedron has 30,720 odd vertices: its steps are split.
+  SemiRegularMesh m = refine_linear(test::icosahedron(), 6);
+  REQUIRE(m.hierarchy.vertex_count(6) - m.hierarchy.vertex_count(5) >= (1u << 14));
+  const std::vector<double> noise = test::random_values(m.positions.size(), 11);
+  for (const WaveletOptions options : {WaveletOptions{Scheme::linear, false}, WaveletOptions{Scheme::linear, true},
+                                       WaveletOptions{Scheme::butterfly, false}, WaveletOptions{Scheme::butterfly, true},
+                                       WaveletOptions{Scheme::loop, false}}) {
+    const WaveletTransform transform(m.hierarchy, options);
+    for (const int channels : {1, 3, 5}) {
+      INFO("scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update << ", "
+                     << channels << " channels");
+      std::vector<double> one(noise.begin(), noise.end());
+      one.resize(std::size_t{m.hierarchy.vertex_count(6)} * static_cast<std::size_t>(channels), 0.25);
+      std::vector<double> two = one;
+      transform.synthesize(one, channels, -1, 0, false);
+      transform.synthesize(two, channels, -1, 0, true);
+      CHECK(same_bits(one, two));
+    }
+  }
+}
+
+TEST_CASE("the two-thread encoder's queue of decisions wraps many times and gives the one-thread bytes", "[codec]") {
+  // 163,842 vertices with noise at every level: far more decisions than the queue's 8 slots of
+  // 32,768 (the file's ~1 MB of bit planes is several million), so the writer waits for the
+  // reader again and again.
+  SemiRegularMesh m = refine_linear(test::icosahedron(), 7);
+  const std::vector<double> noise = test::random_values(m.positions.size(), 12);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) m.positions[i] *= 1 + 0.02 * noise[i];
+  EncodeOptions o;
+  o.scheme = Scheme::butterfly;
+  o.threads = 1;
+  const std::vector<std::uint8_t> one = encode(m, o);
+  REQUIRE(one.size() > 500000);
+  o.threads = 2;
+  CHECK(encode(m, o) == one);
+  o.threads = 0;  // above kConcurrentEncodeVertices: both cores where there are two
+  CHECK(encode(m, o) == one);
 }
