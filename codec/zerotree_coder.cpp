@@ -524,7 +524,8 @@ class EncoderIo {
 
   /// Reads and completes q's records (their widths), which the passes then read in place. Codes
   /// every decision with `encoder`, or, given a queue, writes it there as the index of its model
-  /// among `models` (the passes' own) and its bit.
+  /// among `models` (the passes' own) and its bit; with a queue (two threads) the widths of a
+  /// large level are filled in two halves side by side.
   EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder, DecisionQueue* queue = nullptr,
             Models* models = nullptr)
       : coefficients_(q.coefficients.get()),
@@ -533,9 +534,9 @@ class EncoderIo {
         models_(models),
         k_(static_cast<std::size_t>(q.components)) {
     if (k_ == kGeometryComponents)
-      fill_widths<kGeometryComponents>(f);
+      fill_widths<kGeometryComponents>(f, queue != nullptr);
     else
-      fill_widths<0>(f);
+      fill_widths<0>(f, queue != nullptr);
   }
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
@@ -555,31 +556,41 @@ class EncoderIo {
   using Coefficient = Quantized::Coefficient;
 
   /// Bottom-up bit widths of the maxima: over D(v) and over L(v) = D(v) minus the children.
-  /// Children always have larger indices than their parent, so one backward walk over the
-  /// vertices with children sees every child's widths complete. The finest level's vertices have
+  /// Children always belong to the next level, so a walk over the levels from the finest down
+  /// sees every child's widths complete; within a level no vertex reads another's, so a large
+  /// level may run in two halves side by side (`concurrent`). The finest level's vertices have
   /// none: their widths stay the 0 the records hold (Quantized). K: the components per vertex
   /// known at compile time (the geometry alone, the common case: its loops unrolled), or 0 for k_.
   template <std::size_t K>
-  void fill_widths(const Forest& f) {
+  void fill_widths(const Forest& f, bool concurrent) {
     const std::size_t k = K != 0 ? K : k_;
-    for (std::uint32_t v = f.level_starts[static_cast<std::size_t>(f.levels)]; v-- > 0;) {
-      // The inner-edge children are far from the halves: ask for them a few vertices ahead.
-      if (v >= kPrefetchDistance)
-        for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance))) prefetch(child, 0);
-      // The widths gathered in locals (registers) and stored once.
-      std::uint8_t descendants[kMaxComponents] = {}, grandchildren[kMaxComponents] = {};
-      for (const std::uint32_t child : f.children(v)) {
-        const Coefficient* y = &coefficients_[index(child, std::size_t{0})];
+    // Vertices [first, last), from the last down.
+    auto fill = [&](std::uint32_t first, std::uint32_t last) {
+      for (std::uint32_t v = last; v-- > first;) {
+        // The inner-edge children are far from the halves: ask for them a few vertices ahead.
+        if (v >= first + kPrefetchDistance)
+          for (const std::uint32_t child : f.children(v - static_cast<std::uint32_t>(kPrefetchDistance))) prefetch(child, 0);
+        // The widths gathered in locals (registers) and stored once.
+        std::uint8_t descendants[kMaxComponents] = {}, grandchildren[kMaxComponents] = {};
+        for (const std::uint32_t child : f.children(v)) {
+          const Coefficient* y = &coefficients_[index(child, std::size_t{0})];
+          for (std::size_t c = 0; c < k; ++c) {
+            descendants[c] = std::max({descendants[c], width(y[c].magnitude), y[c].descendants_width});
+            grandchildren[c] = std::max(grandchildren[c], y[c].descendants_width);
+          }
+        }
+        Coefficient* x = &coefficients_[index(v, std::size_t{0})];
         for (std::size_t c = 0; c < k; ++c) {
-          descendants[c] = std::max({descendants[c], width(y[c].magnitude), y[c].descendants_width});
-          grandchildren[c] = std::max(grandchildren[c], y[c].descendants_width);
+          x[c].descendants_width = descendants[c];
+          x[c].grandchildren_width = grandchildren[c];
         }
       }
-      Coefficient* x = &coefficients_[index(v, std::size_t{0})];
-      for (std::size_t c = 0; c < k; ++c) {
-        x[c].descendants_width = descendants[c];
-        x[c].grandchildren_width = grandchildren[c];
-      }
+    };
+    constexpr std::uint32_t kConcurrentVertices = 1u << 15;
+    for (int j = f.levels - 1; j >= 0; --j) {
+      const std::uint32_t first = f.level_starts[static_cast<std::size_t>(j)];
+      const std::uint32_t last = f.level_starts[static_cast<std::size_t>(j) + 1], middle = first + (last - first) / 2;
+      run_both(concurrent && last - first >= kConcurrentVertices, [&] { fill(middle, last); }, [&] { fill(first, middle); });
     }
   }
 

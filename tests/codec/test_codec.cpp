@@ -456,6 +456,8 @@ TEST_CASE("golden stream: format version 5 is frozen", "[codec][golden]") {
   const auto file = encode(mesh, options);
   const std::vector<std::uint8_t> golden = golden_stream("icosahedron_loop_L2_p12_v5.mlz", file);
   CHECK(file == golden);
+  options.threads = 2;  // the encoder's stages side by side (EncodeOptions::threads): the same bytes
+  CHECK(encode(mesh, options) == golden);
   CHECK(golden[4] == 5);
   CHECK(inspect(golden).base_plane <= inspect(golden).top_plane);  // it has a base part (FORMAT.md §5.1)
   const DecodeResult a = decode(golden), b = decode(golden);
