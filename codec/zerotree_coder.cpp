@@ -511,9 +511,12 @@ class DecisionQueue {
 
   std::unique_ptr<std::uint16_t[]> decisions_;
   std::uint32_t sizes_[kSlots] = {};
-  std::atomic<std::uint64_t> written_{0}, read_{0};  // slots handed over, slots coded
+  // The counters and the writer's own fields on cache lines of their own (the writer's change
+  // with every push: a line the reader writes too would move between the cores each time).
+  alignas(64) std::atomic<std::uint64_t> written_{0};  // slots handed over
+  alignas(64) std::atomic<std::uint64_t> read_{0};     // slots coded
   // The writer's own.
-  std::uint16_t* slot_ = decisions_.get();
+  alignas(64) std::uint16_t* slot_ = decisions_.get();
   std::size_t size_ = 0;
   std::uint64_t slots_written_ = 0;
 };
