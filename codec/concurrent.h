@@ -8,23 +8,25 @@ namespace meshlift {
 
 /// Runs first() on a thread of its own while second() runs on the caller's, and returns once both
 /// have ended; with `concurrent` false, first() then second() on the caller's thread. The tasks
-/// must not write what the other reads. An exception from either is rethrown once both have
-/// ended (second()'s if both threw), never std::terminate from the thread.
+/// must not write what the other reads. Both always run; an exception from either is rethrown
+/// once both have ended (second()'s if both threw), never std::terminate from the thread.
 template <class First, class Second>
 void run_both(bool concurrent, First&& first, Second&& second) {
-  if (!concurrent) {
-    first();
-    second();
-    return;
-  }
   std::exception_ptr failure;
-  std::thread thread([&] {
+  auto run_first = [&] {
     try {
       first();
     } catch (...) {
       failure = std::current_exception();
     }
-  });
+  };
+  if (!concurrent) {
+    run_first();
+    second();
+    if (failure) std::rethrow_exception(failure);
+    return;
+  }
+  std::thread thread(run_first);
   try {
     second();
   } catch (...) {

@@ -194,9 +194,12 @@ template <bool Synthesis>
 void apply_step(const LiftingStep& s, double* x, int channels, bool concurrent = false) {
   constexpr std::uint32_t kConcurrentRows = 1u << 14;
   const std::uint32_t rows = s.row_count, half = rows / 2;
-  run_both(
-      concurrent && rows >= kConcurrentRows, [&] { apply_step<Synthesis>(s, x, channels, half, rows); },
-      [&] { apply_step<Synthesis>(s, x, channels, 0, half); });
+  if (!concurrent || rows < kConcurrentRows) {
+    apply_step<Synthesis>(s, x, channels, 0, rows);
+    return;
+  }
+  run_both(true, [&] { apply_step<Synthesis>(s, x, channels, half, rows); },
+           [&] { apply_step<Synthesis>(s, x, channels, 0, half); });
 }
 
 // Loop's predict step of a refined level applied as its rows are read off the coarse faces

@@ -589,7 +589,7 @@ class EncoderIo {
         }
       }
     };
-    constexpr std::uint32_t kConcurrentVertices = 1u << 15;
+    constexpr std::uint32_t kConcurrentVertices = 1u << 14;
     for (int j = f.levels - 1; j >= 0; --j) {
       const std::uint32_t first = f.level_starts[static_cast<std::size_t>(j)];
       const std::uint32_t last = f.level_starts[static_cast<std::size_t>(j) + 1], middle = first + (last - first) / 2;

@@ -3,14 +3,18 @@
 // against FORMAT.md §3's formula; the decoder's normals reusing one array across levels;
 // decode_into, reusing its caller's arrays, against decode(); the encoder's quantizer four
 // coefficients at a time against FORMAT.md §5's formulas one by one.
+#include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "../../codec/canonical_order.h"
+#include "../../codec/concurrent.h"
 #include "../../codec/local_frames.h"
 #include "../../codec/quantize.h"
 #include "../../codec/zerotree_coder.h"
@@ -259,19 +263,95 @@ TEST_CASE("the encoder writes the same bytes on 1 and 2 threads, and from a mesh
       CHECK(encode(ordered, o) == reference);
     }
   }
-  // A precision too fine is refused from either half of a level, on either thread count.
-  EncodeOptions fine;
-  fine.precision_bits = 40;
-  for (const unsigned threads : {1u, 2u}) {
-    fine.threads = threads;
-    CHECK_THROWS_AS(encode(ordered, fine), MeshError);
+  // A precision too fine for a few finest details alone is refused, on either thread count: the
+  // mesh in a speck at the centre but for a few of the finest level's odd vertices, spread over
+  // the box, first the level's first ones, then its last ones (in the closed loop's first and
+  // its second half of the level's edges, the vertices' order being the canonical one).
+  const SemiRegularMesh icosahedron3 = canonical_order(refine_linear(test::icosahedron(), 3));
+  const std::uint32_t finest_odd = icosahedron3.hierarchy.vertex_count(2), V = icosahedron3.hierarchy.vertex_count(3);
+  // Butterfly has no update step: the base values are the speck's own, whatever the details.
+  // The four spread vertices at opposite corners of [-1, 1]^3, so the box is centred on the speck.
+  const double corners[4][3] = {{1, 1, 1}, {-1, -1, -1}, {1, -1, 1}, {-1, 1, -1}};
+  for (const std::uint32_t first_spread : {finest_odd, V - 4}) {
+    SemiRegularMesh speck = icosahedron3;
+    for (std::size_t i = 0; i < speck.positions.size(); ++i) {
+      const std::size_t v = i / 3;
+      speck.positions[i] = v >= first_spread && v < first_spread + 4 ? corners[v - first_spread][i % 3]
+                                                                     : 1e-6 * speck.positions[i];
+    }
+    for (const bool frames : {false, true}) {
+      EncodeOptions fine;
+      fine.scheme = Scheme::butterfly;
+      fine.local_frames = frames;
+      fine.precision_bits = 34;  // details of ~the diagonal pass 2^31 steps; the speck's do not
+      for (const unsigned threads : {1u, 2u}) {
+        INFO("spread from vertex " << first_spread << ", frames " << frames << ", threads " << threads);
+        fine.threads = threads;
+        CHECK_THROWS_WITH(encode(speck, fine), Catch::Contains("too fine"));
+      }
+      fine.precision_bits = 24;
+      CHECK_NOTHROW(encode(speck, fine));
+    }
+  }
+}
+
+TEST_CASE("a mesh in another order than the canonical one is never taken for canonical", "[codec]") {
+  const SemiRegularMesh ordered = canonical_order(refine_linear(test::torus(), 2));
+  REQUIRE(is_canonical(ordered));
+  const std::vector<std::uint8_t> reference = encode(ordered, {});
+  const std::vector<std::uint32_t>& faces = ordered.hierarchy.triangles(0);
+  const std::uint32_t V0 = ordered.hierarchy.vertex_count(0);
+  auto with_base = [&](TriangleTopology base) {
+    SemiRegularMesh m{SemiRegularHierarchy(std::move(base), ordered.hierarchy.levels()), ordered.positions, {}};
+    return m;
+  };
+  // The same labels, two faces swapped: the finer levels are numbered from the faces, so the
+  // positions (given in the canonical order) no longer match; only the flag is checked here.
+  std::vector<std::uint32_t> swapped = faces;
+  std::swap_ranges(swapped.begin(), swapped.begin() + 3, swapped.begin() + 3);
+  CHECK_FALSE(is_canonical(with_base(TriangleTopology::build(V0, swapped))));
+  // The same faces, the first one's corners turned.
+  std::vector<std::uint32_t> turned = faces;
+  std::rotate(turned.begin(), turned.begin() + 1, turned.begin() + 3);
+  CHECK_FALSE(is_canonical(with_base(TriangleTopology::build(V0, turned))));
+  // The same faces and labels, the base's first two edges numbered the other way round: the
+  // finer levels' vertices follow the edge numbering, so this is another order as well.
+  TriangleTopology renumbered = TriangleTopology::build(V0, faces);
+  const std::uint32_t e0 = 0, e1 = 1;
+  for (int k = 0; k < 2; ++k) {
+    std::swap(renumbered.edge_vertices[2 * e0 + k], renumbered.edge_vertices[2 * e1 + k]);
+    std::swap(renumbered.edge_faces[2 * e0 + k], renumbered.edge_faces[2 * e1 + k]);
+  }
+  for (std::uint32_t& e : renumbered.face_edges) e = e == e0 ? e1 : e == e1 ? e0 : e;
+  const SemiRegularMesh other = with_base(renumbered);
+  CHECK_FALSE(is_canonical(other));
+  // Encoded through the canonical hierarchy, it gives the bytes of its canonical order.
+  CHECK(encode(other, {}) == encode(canonical_order(other), {}));
+  CHECK(encode(ordered, {}) == reference);
+}
+
+TEST_CASE("run_both hands a throw on either thread to the caller, after both have ended", "[codec]") {
+  for (const bool concurrent : {false, true}) {
+    int ran = 0;
+    CHECK_THROWS_WITH(run_both(
+                          concurrent, [&] { throw std::runtime_error("first"); }, [&] { ++ran; }),
+                      "first");
+    CHECK(ran == 1);
+    CHECK_THROWS_WITH(run_both(
+                          concurrent, [&] { ++ran; }, [&] { throw std::runtime_error("second"); }),
+                      "second");
+    CHECK(ran == 2);
+    std::atomic<int> both{0};
+    run_both(concurrent, [&] { ++both; }, [&] { ++both; });
+    CHECK(both == 2);
   }
 }
 
 TEST_CASE("synthesis with each large step in two halves on two threads gives the bits of one pass", "[lifting]") {
-  // Level 5 -> 6 of the refined icosahedron has 30,720 odd vertices: its steps are split.
-  SemiRegularMesh m = refine_linear(test::icosahedron(), 6);
-  REQUIRE(m.hierarchy.vertex_count(6) - m.hierarchy.vertex_count(5) >= (1u << 14));
+  // Level 6 -> 7 of the refined icosahedron has 122,880 odd vertices and 40,962 even ones: its
+  // predict and update steps are split (from 2^14 rows; one pass below, and without `concurrent`).
+  SemiRegularMesh m = refine_linear(test::icosahedron(), 7);
+  REQUIRE(m.hierarchy.vertex_count(6) >= (1u << 14));
   const std::vector<double> noise = test::random_values(m.positions.size(), 11);
   for (const WaveletOptions options : {WaveletOptions{Scheme::linear, false}, WaveletOptions{Scheme::linear, true},
                                        WaveletOptions{Scheme::butterfly, false}, WaveletOptions{Scheme::butterfly, true},
@@ -281,7 +361,7 @@ TEST_CASE("synthesis with each large step in two halves on two threads gives the
       INFO("scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update << ", "
                      << channels << " channels");
       std::vector<double> one(noise.begin(), noise.end());
-      one.resize(std::size_t{m.hierarchy.vertex_count(6)} * static_cast<std::size_t>(channels), 0.25);
+      one.resize(std::size_t{m.hierarchy.vertex_count(7)} * static_cast<std::size_t>(channels), 0.25);
       std::vector<double> two = one;
       transform.synthesize(one, channels, -1, 0, false);
       transform.synthesize(two, channels, -1, 0, true);
@@ -293,7 +373,8 @@ TEST_CASE("synthesis with each large step in two halves on two threads gives the
 TEST_CASE("the two-thread encoder's queue of decisions wraps many times and gives the one-thread bytes", "[codec]") {
   // 163,842 vertices with noise at every level: far more decisions than the queue's 8 slots of
   // 32,768 (the file's ~1 MB of bit planes is several million), so the writer waits for the
-  // reader again and again.
+  // reader again and again; its level 6 (30,720 vertices with children) has its widths filled in
+  // two halves.
   SemiRegularMesh m = refine_linear(test::icosahedron(), 7);
   const std::vector<double> noise = test::random_values(m.positions.size(), 12);
   for (std::size_t i = 0; i < m.positions.size(); ++i) m.positions[i] *= 1 + 0.02 * noise[i];
