@@ -2,31 +2,31 @@
 #pragma once
 
 #include <exception>
+#include <system_error>
 #include <thread>
 
 namespace meshlift {
 
-/// Runs first() on a thread of its own while second() runs on the caller's, and returns once both
-/// have ended; with `concurrent` false, first() then second() on the caller's thread. The tasks
-/// must not write what the other reads. Both always run; an exception from either is rethrown
-/// once both have ended (second()'s if both threw), never std::terminate from the thread.
+/// Runs first() on a thread of its own while second() runs on the caller's, and returns true once
+/// both have ended; returns false, having run neither, where no thread can be started (a process
+/// limit). An exception from either is rethrown once both have ended (second()'s if both threw),
+/// never std::terminate from the thread. For tasks that may wait for each other (a producer and
+/// its consumer), which must not run one after the other.
 template <class First, class Second>
-void run_both(bool concurrent, First&& first, Second&& second) {
+bool try_run_both(First&& first, Second&& second) {
   std::exception_ptr failure;
-  auto run_first = [&] {
-    try {
-      first();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-  };
-  if (!concurrent) {
-    run_first();
-    second();
-    if (failure) std::rethrow_exception(failure);
-    return;
+  std::thread thread;
+  try {
+    thread = std::thread([&] {
+      try {
+        first();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    });
+  } catch (const std::system_error&) {
+    return false;
   }
-  std::thread thread(run_first);
   try {
     second();
   } catch (...) {
@@ -34,6 +34,24 @@ void run_both(bool concurrent, First&& first, Second&& second) {
     throw;
   }
   thread.join();
+  if (failure) std::rethrow_exception(failure);
+  return true;
+}
+
+/// first() and second(), side by side if `concurrent` (try_run_both), else, or where no thread
+/// can be started, one after the other on the caller's thread. The tasks must not write what the
+/// other reads. Both always run; an exception from either is rethrown once both have ended
+/// (second()'s if both threw).
+template <class First, class Second>
+void run_both(bool concurrent, First&& first, Second&& second) {
+  if (concurrent && try_run_both(first, second)) return;
+  std::exception_ptr failure;
+  try {
+    first();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  second();
   if (failure) std::rethrow_exception(failure);
 }
 

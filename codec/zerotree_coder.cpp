@@ -638,37 +638,36 @@ void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
   lists.reserve(static_cast<std::size_t>(q.components));
   for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true);
   Models models;
-  if (!concurrent) {
-    EncoderIo io(forest, q, encoder);
-    run(forest, q.components, top, base_plane, nullptr, io, lists, models);
-    return;
-  }
-  // The coder's models start as the passes' do and see the same decisions in the same order, so
-  // each holds at every decision the probability it would hold on one thread.
-  DecisionQueue queue;
-  run_both(
-      true,
-      [&] {
-        Models coded;
-        // Every decision is read (the writer waits for free slots), even after a failure here.
-        std::exception_ptr failure;
-        queue.read([&](std::uint16_t d) {
-          if (!failure) try {
-              encoder.encode(coded[d >> 1], d & 1);
-            } catch (...) {
-              failure = std::current_exception();
-            }
+  if (concurrent) {
+    // The coder's models start as the passes' do and see the same decisions in the same order,
+    // so each holds at every decision the probability it would hold on one thread.
+    DecisionQueue queue;
+    const bool ran = try_run_both(
+        [&] {
+          Models coded;
+          // Every decision is read (the writer waits for free slots), even after a failure here.
+          std::exception_ptr failure;
+          queue.read([&](std::uint16_t d) {
+            if (!failure) try {
+                encoder.encode(coded[d >> 1], d & 1);
+              } catch (...) {
+                failure = std::current_exception();
+              }
+          });
+          if (failure) std::rethrow_exception(failure);
+        },
+        [&] {
+          struct Finish {
+            DecisionQueue& queue;
+            ~Finish() { queue.finish(); }  // also if the passes throw: the reader must not wait forever
+          } finish{queue};
+          EncoderIo io(forest, q, encoder, &queue, &models);
+          run(forest, q.components, top, base_plane, nullptr, io, lists, models);
         });
-        if (failure) std::rethrow_exception(failure);
-      },
-      [&] {
-        struct Finish {
-          DecisionQueue& queue;
-          ~Finish() { queue.finish(); }  // also if the passes throw: the reader must not wait forever
-        } finish{queue};
-        EncoderIo io(forest, q, encoder, &queue, &models);
-        run(forest, q.components, top, base_plane, nullptr, io, lists, models);
-      });
+    if (ran) return;  // else no thread could be started: on this one
+  }
+  EncoderIo io(forest, q, encoder);
+  run(forest, q.components, top, base_plane, nullptr, io, lists, models);
 }
 
 Decoded decode(const Forest& forest, int components, int top, int base_plane, std::span<const std::int64_t> base_high,
