@@ -19,12 +19,12 @@ struct CanonicalHierarchy {
 /// \throw MeshError if the positions or a channel do not match the hierarchy's vertex count.
 CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree);
 
-/// Whether `mesh` is in canonical order already (a decoded mesh, a remesh): its base faces are the
-/// connectivity coder's traversal order, turned as it turns them, with the vertices labelled as
-/// it labels them, and its base topology is the one the canonical hierarchy builds (so every
-/// finer level is too: SemiRegularHierarchy refines the base by one fixed rule). The topology of
-/// each level below the finest must be held (the encoder reads them). Costs one traversal of
-/// the base. \throw MeshError as canonical_hierarchy().
+/// Whether `mesh` is in canonical order already (a decoded mesh, canonical_order()'s output):
+/// its base faces are the connectivity coder's traversal order, turned as it turns them, with the
+/// vertices labelled as it labels them, and its base topology is the one the canonical hierarchy
+/// builds (so every finer level is too: SemiRegularHierarchy refines the base by one fixed rule).
+/// The topology of each level below the finest must be held (the encoder reads them). Costs one
+/// traversal of the base. \throw MeshError as canonical_hierarchy().
 bool is_canonical(const SemiRegularMesh& mesh);
 
 }  // namespace meshlift

@@ -225,7 +225,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
 
   // The canonical order as a renumbering, read through: no reordered copy of the positions, and
   // a hierarchy without the finest faces and the coefficient tree (nothing here reads them). A
-  // mesh in that order already (a remesh, a decoded mesh) is read as it is: no second hierarchy.
+  // mesh in that order already (a decoded one, canonical_order()'s output) is read as it is.
   const bool in_order = is_canonical(input);  // also checks the array sizes
   const std::optional<CanonicalHierarchy> canonical =
       in_order ? std::nullopt : std::optional(canonical_hierarchy(input, false, false));
