@@ -462,7 +462,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
 std::uint8_t width(std::uint32_t x) { return static_cast<std::uint8_t>(std::bit_width(x)); }
 
 /// The decisions of the passes on their way to the range coder on another thread: a model's
-/// index in Models (as BitModels) and the bit, in slots of kSlotSize that the writer fills and
+/// index in Models and the bit, in slots of kSlotSize that the writer fills and
 /// hands over one at a time (a single writer and a single reader; at most kSlots in flight).
 class DecisionQueue {
  public:
