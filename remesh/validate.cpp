@@ -182,21 +182,41 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   }
 
   // ---- edges: sort the half-edges of usable faces by undirected key ----
+  // In the order of (key, face): a counting sort by the key's high half, the edge's smaller
+  // vertex (faces in increasing order within each), then each vertex's few half-edges by the low
+  // half, stably. The same order as one comparison sort, in linear time.
   std::vector<HalfEdge> half_edges;
-  half_edges.reserve(corner_vertex.size());
-  for (std::size_t f = 0; f < face_count; ++f) {
-    if (!usable[f]) continue;
-    const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-    for (std::uint32_t c = begin; c < end; ++c) {
-      const std::uint32_t d = c + 1 < end ? c + 1 : begin;
-      const std::uint32_t a = corner_vertex[c], b = corner_vertex[d];
+  {
+    std::vector<std::uint32_t> first_of_vertex(vertex_count + 1, 0);
+    auto for_each_half_edge = [&](auto&& visit) {
+      for (std::size_t f = 0; f < face_count; ++f) {
+        if (!usable[f]) continue;
+        const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+        for (std::uint32_t c = begin; c < end; ++c) {
+          const std::uint32_t d = c + 1 < end ? c + 1 : begin;
+          visit(static_cast<std::uint32_t>(f), c, d, corner_vertex[c], corner_vertex[d]);
+        }
+      }
+    };
+    for_each_half_edge([&](std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t a, std::uint32_t b) {
+      ++first_of_vertex[std::min(a, b) + 1];
+    });
+    for (std::size_t v = 0; v < vertex_count; ++v) first_of_vertex[v + 1] += first_of_vertex[v];
+    half_edges.resize(first_of_vertex[vertex_count]);
+    std::vector<std::uint32_t> next(first_of_vertex.begin(), first_of_vertex.end() - 1);
+    for_each_half_edge([&](std::uint32_t f, std::uint32_t c, std::uint32_t d, std::uint32_t a, std::uint32_t b) {
       const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-      half_edges.push_back({key, static_cast<std::uint32_t>(f), c, d, a < b});
-    }
+      half_edges[next[std::min(a, b)]++] = {key, f, c, d, a < b};
+    });
+    // Each vertex's few half-edges (about its valence) by an insertion sort: stable, no buffer.
+    for (std::size_t v = 0; v < vertex_count; ++v)
+      for (std::uint32_t i = first_of_vertex[v] + 1; i < first_of_vertex[v + 1]; ++i) {
+        const HalfEdge h = half_edges[i];
+        std::uint32_t k = i;
+        for (; k > first_of_vertex[v] && half_edges[k - 1].key > h.key; --k) half_edges[k] = half_edges[k - 1];
+        half_edges[k] = h;
+      }
   }
-  std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.key != y.key ? x.key < y.key : x.face < y.face;
-  });
 
   // Fans around vertices: corners joined across manifold edges (section 8.3.1: a manifold vertex
   // has one cycle, a boundary vertex one chain of triangles; more than one fan is a pinch).
@@ -204,12 +224,8 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   DisjointSets boundary_sets(vertex_count);
   std::vector<char> on_boundary(vertex_count, 0);
   std::vector<char> face_on_non_manifold_edge(face_count, 0);
-  // Face adjacency across manifold edges; `flip` when both faces run the edge the same way.
-  struct Adjacency {
-    std::uint32_t face, other;
-    bool flip;
-  };
-  std::vector<Adjacency> adjacency;
+  // Face adjacency across manifold edges, counted here per face and listed below.
+  std::vector<std::uint32_t> first_adjacent(face_count + 1, 0);
   std::vector<std::uint64_t> edge_keys;  // one per distinct edge, for per-component counts
   for (std::size_t i = 0; i < half_edges.size();) {
     std::size_t j = i + 1;
@@ -232,8 +248,8 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
         r.first_inconsistent_edge[0] = a;
         r.first_inconsistent_edge[1] = b;
       }
-      adjacency.push_back({x.face, y.face, flip});
-      adjacency.push_back({y.face, x.face, flip});
+      ++first_adjacent[x.face + 1];
+      ++first_adjacent[y.face + 1];
       const auto corner_at = [&](const HalfEdge& h, std::uint32_t v) { return corner_vertex[h.from] == v ? h.from : h.to; };
       fans.unite(corner_at(x, a), corner_at(y, a));
       fans.unite(corner_at(x, b), corner_at(y, b));
@@ -250,20 +266,21 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
 
   std::vector<char> non_manifold_vertex(vertex_count, 0);
   {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> vertex_fan;  // (vertex, fan root)
-    vertex_fan.reserve(corner_vertex.size());
+    // A vertex whose usable corners lie in more than one fan: each vertex's first fan root
+    // against the others', the vertices in increasing order.
+    std::vector<std::uint32_t> fan_of_vertex(vertex_count, kNone);
     for (std::size_t f = 0; f < face_count; ++f) {
       if (!usable[f]) continue;
-      for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
-        vertex_fan.emplace_back(corner_vertex[c], fans.find(c));
-    }
-    std::sort(vertex_fan.begin(), vertex_fan.end());
-    vertex_fan.erase(std::unique(vertex_fan.begin(), vertex_fan.end()), vertex_fan.end());
-    for (std::size_t i = 1; i < vertex_fan.size(); ++i)
-      if (vertex_fan[i].first == vertex_fan[i - 1].first && !non_manifold_vertex[vertex_fan[i].first]) {
-        non_manifold_vertex[vertex_fan[i].first] = 1;
-        if (r.non_manifold_vertices++ == 0) r.first_non_manifold_vertex = vertex_fan[i].first;
+      for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
+        const std::uint32_t v = corner_vertex[c], root = fans.find(c);
+        if (fan_of_vertex[v] == kNone)
+          fan_of_vertex[v] = root;
+        else if (fan_of_vertex[v] != root)
+          non_manifold_vertex[v] = 1;
       }
+    }
+    for (std::size_t v = 0; v < vertex_count; ++v)
+      if (non_manifold_vertex[v] && r.non_manifold_vertices++ == 0) r.first_non_manifold_vertex = static_cast<std::uint32_t>(v);
   }
 
   // ---- components: vertices joined by usable faces ----
@@ -312,11 +329,28 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   // ---- orientation: breadth-first propagation of face signs (exercise 8.6) ----
   // Across a manifold edge, sign(g) = sign(f) when the faces run the edge in opposite directions
   // and −sign(f) when they run it the same way; a contradiction means non-orientable.
-  std::sort(adjacency.begin(), adjacency.end(),
-            [](const Adjacency& x, const Adjacency& y) { return x.face < y.face; });
-  std::vector<std::uint32_t> first_adjacent(face_count + 1, 0);
-  for (const Adjacency& e : adjacency) ++first_adjacent[e.face + 1];
+  // Each face's neighbours across its manifold edges, and whether both faces run the edge the
+  // same way (`flip`).
   for (std::size_t f = 0; f < face_count; ++f) first_adjacent[f + 1] += first_adjacent[f];
+  std::vector<std::uint32_t> adjacent(first_adjacent[face_count]);
+  std::vector<char> flip(adjacent.size());
+  {
+    std::vector<std::uint32_t> next(first_adjacent.begin(), first_adjacent.end() - 1);
+    for (std::size_t i = 0; i < half_edges.size();) {
+      std::size_t j = i + 1;
+      while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
+      if (j - i == 2) {
+        const HalfEdge& x = half_edges[i];
+        const HalfEdge& y = half_edges[i + 1];
+        const char same_way = x.forward == y.forward;
+        flip[next[x.face]] = same_way;
+        adjacent[next[x.face]++] = y.face;
+        flip[next[y.face]] = same_way;
+        adjacent[next[y.face]++] = x.face;
+      }
+      i = j;
+    }
+  }
   std::vector<signed char> sign(face_count, 0);
   std::vector<std::uint32_t> queue;
   for (std::size_t seed = 0; seed < face_count; ++seed) {
@@ -326,12 +360,12 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const std::uint32_t f = queue[head];
       for (std::uint32_t k = first_adjacent[f]; k < first_adjacent[f + 1]; ++k) {
-        const Adjacency& e = adjacency[k];
-        const signed char wanted = static_cast<signed char>(e.flip ? -sign[f] : sign[f]);
-        if (sign[e.other] == 0) {
-          sign[e.other] = wanted;
-          queue.push_back(e.other);
-        } else if (sign[e.other] != wanted) {
+        const std::uint32_t other = adjacent[k];
+        const signed char wanted = static_cast<signed char>(flip[k] ? -sign[f] : sign[f]);
+        if (sign[other] == 0) {
+          sign[other] = wanted;
+          queue.push_back(other);
+        } else if (sign[other] != wanted) {
           r.orientable = false;
           components[face_component[f]].orientable = false;
         }
