@@ -208,15 +208,35 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
       const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
       half_edges[next[std::min(a, b)]++] = {key, f, c, d, a < b};
     });
-    // Each vertex's few half-edges (about its valence) by an insertion sort: stable, no buffer.
-    for (std::size_t v = 0; v < vertex_count; ++v)
-      for (std::uint32_t i = first_of_vertex[v] + 1; i < first_of_vertex[v + 1]; ++i) {
+    // Each vertex's half-edges: the few of an ordinary vertex (about its valence) by an insertion
+    // sort (stable, so faces stay in order; no buffer), the many of a hub (a fan of thousands of
+    // faces, as a hostile file may hold) by a comparison sort on (key, face), never quadratic.
+    constexpr std::uint32_t kInsertionSortMost = 32;
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+      const std::uint32_t first = first_of_vertex[v], last = first_of_vertex[v + 1];
+      if (last - first > kInsertionSortMost) {
+        std::sort(half_edges.begin() + first, half_edges.begin() + last, [](const HalfEdge& x, const HalfEdge& y) {
+          return x.key != y.key ? x.key < y.key : x.face < y.face;
+        });
+        continue;
+      }
+      for (std::uint32_t i = first + 1; i < last; ++i) {
         const HalfEdge h = half_edges[i];
         std::uint32_t k = i;
-        for (; k > first_of_vertex[v] && half_edges[k - 1].key > h.key; --k) half_edges[k] = half_edges[k - 1];
+        for (; k > first && half_edges[k - 1].key > h.key; --k) half_edges[k] = half_edges[k - 1];
         half_edges[k] = h;
       }
+    }
   }
+  // Calls visit(i, j) for each edge in key order: the half-edges [i, j) sharing its key.
+  auto for_each_edge = [&](auto&& visit) {
+    for (std::size_t i = 0; i < half_edges.size();) {
+      std::size_t j = i + 1;
+      while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
+      visit(i, j);
+      i = j;
+    }
+  };
 
   // Fans around vertices: corners joined across manifold edges (section 8.3.1: a manifold vertex
   // has one cycle, a boundary vertex one chain of triangles; more than one fan is a pinch).
@@ -227,9 +247,7 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   // Face adjacency across manifold edges, counted here per face and listed below.
   std::vector<std::uint32_t> first_adjacent(face_count + 1, 0);
   std::vector<std::uint64_t> edge_keys;  // one per distinct edge, for per-component counts
-  for (std::size_t i = 0; i < half_edges.size();) {
-    std::size_t j = i + 1;
-    while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
+  for_each_edge([&](std::size_t i, std::size_t j) {
     const std::size_t multiplicity = j - i;
     ++r.edges;
     edge_keys.push_back(half_edges[i].key);
@@ -260,8 +278,7 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
       }
       for (std::size_t k = i; k < j; ++k) face_on_non_manifold_edge[half_edges[k].face] = 1;
     }
-    i = j;
-  }
+  });
   r.consistently_oriented = r.inconsistent_edges == 0;
 
   std::vector<char> non_manifold_vertex(vertex_count, 0);
@@ -336,20 +353,16 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   std::vector<char> flip(adjacent.size());
   {
     std::vector<std::uint32_t> next(first_adjacent.begin(), first_adjacent.end() - 1);
-    for (std::size_t i = 0; i < half_edges.size();) {
-      std::size_t j = i + 1;
-      while (j < half_edges.size() && half_edges[j].key == half_edges[i].key) ++j;
-      if (j - i == 2) {
-        const HalfEdge& x = half_edges[i];
-        const HalfEdge& y = half_edges[i + 1];
-        const char same_way = x.forward == y.forward;
-        flip[next[x.face]] = same_way;
-        adjacent[next[x.face]++] = y.face;
-        flip[next[y.face]] = same_way;
-        adjacent[next[y.face]++] = x.face;
-      }
-      i = j;
-    }
+    for_each_edge([&](std::size_t i, std::size_t j) {
+      if (j - i != 2) return;
+      const HalfEdge& x = half_edges[i];
+      const HalfEdge& y = half_edges[i + 1];
+      const char same_way = x.forward == y.forward;
+      flip[next[x.face]] = same_way;
+      adjacent[next[x.face]++] = y.face;
+      flip[next[y.face]] = same_way;
+      adjacent[next[y.face]++] = x.face;
+    });
   }
   std::vector<signed char> sign(face_count, 0);
   std::vector<std::uint32_t> queue;

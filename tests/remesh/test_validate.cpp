@@ -291,6 +291,35 @@ TEST_CASE("a flipped face is orientable but not consistently oriented", "[valida
           "3 edges are traversed in the same direction by both faces: orientation is inconsistent (first: edge 0-5)");
 }
 
+TEST_CASE("a hub vertex of 100,000 faces: its half-edges sorted as any vertex's, one face turned found", "[validate]") {
+  // A disk of n triangles (0, i, i + 1) around vertex 0, the smaller vertex of its 2n spokes'
+  // half-edges: the edge pass sorts that one vertex's half-edges by a comparison sort (an
+  // ordinary vertex's by insertion), which must group every spoke's two half-edges.
+  constexpr std::uint32_t n = 100000;
+  TriangleMesh m;
+  m.positions = {0, 0, 0};
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double angle = 2 * std::acos(-1.0) * i / n;
+    m.positions.insert(m.positions.end(), {std::cos(angle), std::sin(angle), 0});
+  }
+  for (std::uint32_t i = 1; i <= n; ++i) m.triangles.insert(m.triangles.end(), {0, i, i % n + 1});
+  MeshReport r = validate_mesh(m);
+  CHECK(r.is_manifold());
+  CHECK(r.consistently_oriented);
+  CHECK(r.edges == 2 * n);
+  CHECK(r.boundary_edges == n);
+  CHECK(r.boundary_loops == 1);
+  CHECK(r.euler_characteristic == 1);
+  // Face k turned: its two spokes (0, k + 1) and (0, k + 2) are run the same way by both faces.
+  const std::uint32_t k = 54321;
+  std::swap(m.triangles[3 * k + 1], m.triangles[3 * k + 2]);
+  r = validate_mesh(m);
+  CHECK(r.orientable);
+  CHECK(r.inconsistent_edges == 2);
+  CHECK(r.first_inconsistent_edge[0] == 0);
+  CHECK(r.first_inconsistent_edge[1] == k + 1);
+}
+
 TEST_CASE("a Möbius strip is not orientable", "[validate]") {
   const MeshReport r = validate_mesh(mobius(8));
   REQUIRE(r.is_manifold());
