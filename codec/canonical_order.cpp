@@ -3,6 +3,8 @@
 // to follow. Faces map to faces by the refinement rule, so no geometric search is needed.
 #include "canonical_order.h"
 
+#include <algorithm>
+
 #include "base_mesh_coder.h"
 #include "large_array.h"
 #include "meshlift/codec.h"
@@ -19,33 +21,33 @@ void check_sizes(const SemiRegularMesh& mesh) {
       throw MeshError("a channel's values do not match the hierarchy's vertex count");
 }
 
-}  // namespace
-
-bool is_canonical(const SemiRegularMesh& mesh) {
-  check_sizes(mesh);
-  const SemiRegularHierarchy& h = mesh.hierarchy;
-  const int L = h.levels();
-  for (int j = 0; j < std::max(L, 1); ++j)
+/// Whether `order` (the coder's traversal of h's base) labels and turns nothing, and h's base
+/// topology is the one TriangleTopology::build gives its faces (see is_canonical).
+bool in_coding_order(const SemiRegularHierarchy& h, const base_mesh::CodingOrder& order) {
+  for (int j = 0; j < std::max(h.levels(), 1); ++j)
     if (!h.has_topology(j)) return false;
-  const std::vector<std::uint32_t>& base = h.triangles(0);
-  base_mesh::CodingOrder order;
-  base_mesh::encode_faces(base, h.vertex_count(0), &order);
   for (std::size_t k = 0; k < order.face.size(); ++k)
     if (order.face[k] != k || order.rotation[k] != 0) return false;
   for (std::uint32_t v = 0; v < order.label.size(); ++v)
     if (order.label[v] != v) return false;
   const TriangleTopology& t = h.topology(0);
-  const TriangleTopology built = TriangleTopology::build(h.vertex_count(0), base);
+  const TriangleTopology built = TriangleTopology::build(h.vertex_count(0), h.triangles(0));
   return t.edge_vertices == built.edge_vertices && t.edge_faces == built.edge_faces && t.face_edges == built.face_edges;
 }
 
-CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree) {
+/// The coder's traversal of the mesh's base, after checking the arrays' sizes.
+base_mesh::CodingOrder coding_order(const SemiRegularMesh& mesh) {
   check_sizes(mesh);
+  base_mesh::CodingOrder order;
+  base_mesh::encode_faces(mesh.hierarchy.triangles(0), mesh.hierarchy.vertex_count(0), &order);
+  return order;
+}
+
+CanonicalHierarchy build_reordered(const SemiRegularMesh& mesh, const base_mesh::CodingOrder& order,
+                                   bool finest_triangles, bool coefficient_tree) {
   const SemiRegularHierarchy& old = mesh.hierarchy;
   const int L = old.levels();
   const std::vector<std::uint32_t>& old_base = old.triangles(0);
-  base_mesh::CodingOrder order;
-  base_mesh::encode_faces(old_base, old.vertex_count(0), &order);
 
   // New base: face k is old face order.face[k] turned so that its corner 0 is old corner rotation[k].
   const std::size_t F = order.face.size();
@@ -87,6 +89,21 @@ CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_
     turn = std::move(next_turn);
   }
   return out;
+}
+
+}  // namespace
+
+bool is_canonical(const SemiRegularMesh& mesh) { return in_coding_order(mesh.hierarchy, coding_order(mesh)); }
+
+CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree) {
+  return build_reordered(mesh, coding_order(mesh), finest_triangles, coefficient_tree);
+}
+
+std::optional<CanonicalHierarchy> canonical_hierarchy_if_reordered(const SemiRegularMesh& mesh, bool finest_triangles,
+                                                                   bool coefficient_tree) {
+  const base_mesh::CodingOrder order = coding_order(mesh);
+  if (in_coding_order(mesh.hierarchy, order)) return std::nullopt;
+  return build_reordered(mesh, order, finest_triangles, coefficient_tree);
 }
 
 SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {

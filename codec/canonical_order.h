@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "meshlift/semi_regular.h"
@@ -26,5 +27,10 @@ CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_
 /// The topology of each level below the finest must be held (the encoder reads them). Costs one
 /// traversal of the base. \throw MeshError as canonical_hierarchy().
 bool is_canonical(const SemiRegularMesh& mesh);
+
+/// canonical_hierarchy(), or nothing where is_canonical(mesh) (the mesh's own hierarchy is the
+/// canonical one): both decided by one traversal of the base.
+std::optional<CanonicalHierarchy> canonical_hierarchy_if_reordered(const SemiRegularMesh& mesh, bool finest_triangles,
+                                                                   bool coefficient_tree);
 
 }  // namespace meshlift

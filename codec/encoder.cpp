@@ -226,9 +226,9 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // The canonical order as a renumbering, read through: no reordered copy of the positions, and
   // a hierarchy without the finest faces and the coefficient tree (nothing here reads them). A
   // mesh in that order already (a decoded one, canonical_order()'s output) is read as it is.
-  const bool in_order = is_canonical(input);  // also checks the array sizes
   const std::optional<CanonicalHierarchy> canonical =
-      in_order ? std::nullopt : std::optional(canonical_hierarchy(input, false, false));
+      canonical_hierarchy_if_reordered(input, false, false);  // also checks the array sizes
+  const bool in_order = !canonical;
   const SemiRegularHierarchy& h = in_order ? given : canonical->hierarchy;
   const std::uint32_t* const old_vertex = in_order ? nullptr : canonical->old_vertex.data();
   const int L = h.levels();
