@@ -43,9 +43,10 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// boundary neighbours), so the rows to compute are those of the edges at the live vertices and
 /// at their neighbours; an update row's sources are the odd vertices on its vertex's edges, so
 /// those are the endpoints of live odd vertices' edges and the live even vertices themselves.
-/// `buffer` holds at least vertex_count(L) zeros and is left holding zeros.
+/// `buffer` holds at least vertex_count(L) zeros and is left holding zeros; `edges` holds the
+/// incident edges of levels 0 to L - 1 (level_edges, built before the transform's tables exist).
 std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform,
-                                  std::span<double> buffer) {
+                                  std::span<double> buffer, const std::vector<VertexEdges>& edges) {
   const int L = h.levels();
   std::vector<double> weights(static_cast<std::size_t>(L) + 1);
   // Per step, where each run's rows start in its row order and in its index table.
@@ -54,10 +55,8 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
     std::vector<std::size_t> index;
   };
   std::vector<std::vector<RunStarts>> starts(static_cast<std::size_t>(L));
-  std::vector<VertexEdges> edges;
   std::size_t most_rows = 0;
   for (int i = 0; i < L; ++i) {
-    edges.emplace_back(h.topology(i));
     for (const LiftingStep& step : transform.steps(i)) {
       RunStarts r;
       std::uint32_t row = 0;
@@ -193,6 +192,13 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
   return weights;
 }
 
+/// The incident edges of each level below the finest, which level_weights walks.
+std::vector<VertexEdges> level_edges(const SemiRegularHierarchy& h) {
+  std::vector<VertexEdges> edges;
+  for (int i = 0; i < h.levels(); ++i) edges.emplace_back(h.topology(i));
+  return edges;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptions& options) {
@@ -203,8 +209,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     throw MeshError("encode: precision_bits must be between 1 and 40");
   if (options.local_frames && (options.tangent_shift < 0 || options.tangent_shift > 16))
     throw MeshError("encode: tangent_shift must be between 0 and 16");
-  for (double x : input.positions)
-    if (!std::isfinite(x)) throw MeshError("encode: a vertex coordinate is NaN or infinite");
   if (!input.channels.empty()) {
     if (input.channels.size() > 4) throw MeshError("encode: at most 4 extra channels");
     if (options.channel_precision_bits < 1 || options.channel_precision_bits > 40)
@@ -215,8 +219,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       if (c.components < 1 || total > zerotree::kMaxChannelComponents)
         throw MeshError("encode: extra channels may have " + std::to_string(zerotree::kMaxChannelComponents) +
                         " components together, at least 1 each");
-      for (double x : c.values)
-        if (!std::isfinite(x)) throw MeshError("encode: a channel value is NaN or infinite");
     }
   }
   std::vector<char> used(given.vertex_count(0), 0);
@@ -258,7 +260,16 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
                               : options.threads > 1;
   std::optional<WaveletTransform> transform_tables;
   const WaveletOptions wavelet{header.scheme, header.mean_preserving_update};
-  run_both(concurrent, [&] { transform_tables.emplace(h, wavelet); }, [&] {
+  // What the level weights walk, built beside the gathering too: the levels' incident edges, and
+  // the impulses' buffer of zeros, resident before the base vertex's whole synthesis writes it
+  // (large_array.h: one system call for the pages instead of a fault each).
+  std::vector<VertexEdges> edges;
+  std::vector<double> impulses;
+  run_both(concurrent, [&] {
+    transform_tables.emplace(h, wavelet);
+    edges = level_edges(h);
+  }, [&] {
+    assign_large(impulses, V, 0.0);
     // Each value's extremes over all vertices (the bounding box and the channels' ranges), taken
     // as the values are gathered (min and max are exact: the order they see the values in does
     // not matter).
@@ -268,6 +279,9 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     std::fill_n(lowest, k_stride, std::numeric_limits<double>::infinity());
     std::fill_n(highest, k_stride, -std::numeric_limits<double>::infinity());
     reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
+    // Whether a coordinate ([0]) or a channel value ([1]) is NaN or infinite, checked here rather
+    // than in a pass of its own over the input (thrown below, before anything is computed from them).
+    bool nonfinite[2] = {false, false};
     // One value at a time (push_back inlines; a 3-value insert per vertex is a memmove call).
     for (std::uint32_t v = 0; v < V; ++v) {
       const std::size_t old = in_order ? v : old_vertex[v];
@@ -276,6 +290,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
         values.push_back(x);
         lowest[k] = std::min(lowest[k], x);
         highest[k] = std::max(highest[k], x);
+        nonfinite[k >= 3] |= !(std::abs(x) <= std::numeric_limits<double>::max());
         ++k;
       };
       for (std::size_t i = 0; i < 3; ++i) append(input.positions[3 * old + i]);
@@ -284,6 +299,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
         for (std::size_t i = 0; i < n; ++i) append(c.values[n * old + i]);
       }
     }
+    if (nonfinite[0]) throw MeshError("encode: a vertex coordinate is NaN or infinite");
+    if (nonfinite[1]) throw MeshError("encode: a channel value is NaN or infinite");
     // Bounding box and centre in canonical order (as over canonical_order(input).positions; the
     // diagonal as bounding_box_diagonal computes it from the same extremes).
     double lo[3], hi[3];
@@ -321,19 +338,15 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
   });
   const WaveletTransform& transform = *transform_tables;
-  // The coefficient tree for the bit planes, built alongside the analysis, and the quantized
-  // records' pages made resident (every record is written below; the level weights take longer).
+  // The level weights beside the analysis, the coefficient tree for the bit planes and the
+  // quantized records' pages made resident (every record is written below).
   std::optional<zerotree::Forest> forest;
   zerotree::Quantized q;
   q.components = K;
   run_both(
       concurrent,
       [&] {
-        // The level weights' impulses in zeros, resident before the base vertex's whole synthesis
-        // writes them (large_array.h: one system call for the pages instead of a fault each).
-        std::vector<double> impulses;
-        assign_large(impulses, V, 0.0);
-        header.level_weights = level_weights(h, transform, impulses);
+        header.level_weights = level_weights(h, transform, impulses, edges);
         for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
       },
       [&] {
@@ -343,6 +356,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
         q.allocate(values.size());
         populate(q.coefficients.get(), q.size * sizeof(zerotree::Quantized::Coefficient));
       });
+  edges = {};
+  impulses = {};
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).

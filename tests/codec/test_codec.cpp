@@ -742,6 +742,35 @@ TEST_CASE("extra channels: bad channels are refused with a message", "[codec][ch
   CHECK_THROWS_AS(encode(mesh, {}), MeshError);
 }
 
+TEST_CASE("a NaN or infinite coordinate or channel value is refused by the encoder, on 1 and 2 threads", "[codec][robust]") {
+  // The check rides on the gathering of the values (encoder.cpp), which may run on the second
+  // thread: its message must still reach the caller, whichever vertex holds the bad value.
+  const unsigned threads = GENERATE(1u, 2u);
+  const double bad = GENERATE(std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                              -std::numeric_limits<double>::infinity());
+  SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 2));
+  EncodeOptions options;
+  options.threads = threads;
+  const std::size_t last = mesh.positions.size() - 1;
+  SECTION("a coordinate, first vertex") {
+    mesh.positions[0] = bad;
+    CHECK_THROWS_WITH(encode(mesh, options), Catch::Contains("vertex coordinate is NaN or infinite"));
+  }
+  SECTION("a coordinate, last vertex") {
+    mesh.positions[last] = bad;
+    CHECK_THROWS_WITH(encode(mesh, options), Catch::Contains("vertex coordinate is NaN or infinite"));
+  }
+  SECTION("a channel value") {
+    mesh.channels[1].values.back() = bad;
+    CHECK_THROWS_WITH(encode(mesh, options), Catch::Contains("channel value is NaN or infinite"));
+  }
+  SECTION("the largest finite values are coded") {
+    // Not refused as infinite (the centre then overflows the header's float: another message).
+    mesh.positions[0] = std::numeric_limits<double>::max();
+    CHECK_THROWS_WITH(encode(mesh, options), !Catch::Contains("NaN or infinite"));
+  }
+}
+
 TEST_CASE("golden stream: local frames and an extra channel", "[codec][golden]") {
   // Fixed input: the icosahedron refined twice with the bumpy field and the two test channels,
   // butterfly, 12 bits, local frames with tangent shift 2, channels at 8 bits.
