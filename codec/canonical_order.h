@@ -17,8 +17,10 @@ struct CanonicalHierarchy {
   std::vector<std::uint32_t> old_vertex;
 };
 
+/// With `concurrent`, the hierarchy's topology and the renumbering are built on two threads.
 /// \throw MeshError if the positions or a channel do not match the hierarchy's vertex count.
-CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree);
+CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_triangles, bool coefficient_tree,
+                                       bool concurrent = false);
 
 /// Whether `mesh` is in canonical order already (a decoded mesh, canonical_order()'s output):
 /// its base faces are the connectivity coder's traversal order, turned as it turns them, with the
@@ -31,6 +33,6 @@ bool is_canonical(const SemiRegularMesh& mesh);
 /// canonical_hierarchy(), or nothing where is_canonical(mesh) (the mesh's own hierarchy is the
 /// canonical one): both decided by one traversal of the base.
 std::optional<CanonicalHierarchy> canonical_hierarchy_if_reordered(const SemiRegularMesh& mesh, bool finest_triangles,
-                                                                   bool coefficient_tree);
+                                                                   bool coefficient_tree, bool concurrent = false);
 
 }  // namespace meshlift

@@ -225,11 +225,17 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   for (std::uint32_t v : given.triangles(0)) used[v] = 1;
   if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
 
+  // With more than one thread, the independent stages run side by side (concurrent.h): the
+  // canonical hierarchy's topology while its renumbering is computed, the transform's tables while
+  // the values are gathered, the level weights while they are analyzed.
+  const bool concurrent = options.threads == 0
+                              ? std::thread::hardware_concurrency() > 1 && V >= EncodeOptions::kConcurrentEncodeVertices
+                              : options.threads > 1;
   // The canonical order as a renumbering, read through: no reordered copy of the positions, and
   // a hierarchy without the finest faces and the coefficient tree (nothing here reads them). A
   // mesh in that order already (a decoded one, canonical_order()'s output) is read as it is.
   const std::optional<CanonicalHierarchy> canonical =
-      canonical_hierarchy_if_reordered(input, false, false);  // also checks the array sizes
+      canonical_hierarchy_if_reordered(input, false, false, concurrent);  // also checks the array sizes
   const bool in_order = !canonical;
   const SemiRegularHierarchy& h = in_order ? given : canonical->hierarchy;
   const std::uint32_t* const old_vertex = in_order ? nullptr : canonical->old_vertex.data();
@@ -253,11 +259,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   }();
   const std::size_t k_stride = static_cast<std::size_t>(K);
   std::vector<double> values;
-  // With more than one thread, the independent stages run side by side (concurrent.h): the
-  // transform's tables while the values are gathered, the level weights while they are analyzed.
-  const bool concurrent = options.threads == 0
-                              ? std::thread::hardware_concurrency() > 1 && V >= EncodeOptions::kConcurrentEncodeVertices
-                              : options.threads > 1;
   std::optional<WaveletTransform> transform_tables;
   const WaveletOptions wavelet{header.scheme, header.mean_preserving_update};
   // What the level weights walk, built beside the gathering too: the levels' incident edges, and
