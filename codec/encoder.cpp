@@ -266,39 +266,41 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   // (large_array.h: one system call for the pages instead of a fault each).
   std::vector<VertexEdges> edges;
   std::vector<double> impulses;
+  std::optional<zerotree::Forest> forest;
   run_both(concurrent, [&] {
     transform_tables.emplace(h, wavelet);
     edges = level_edges(h);
   }, [&] {
     assign_large(impulses, V, 0.0);
-    // Each value's extremes over all vertices (the bounding box and the channels' ranges), taken
-    // as the values are gathered (min and max are exact: the order they see the values in does
-    // not matter).
-    // The extremes in locals while gathering: in the vectors, every vertex's update would be
-    // stored and loaded back through memory (the compiler cannot tell them from `values`).
+    // Each value's extremes over all vertices (the bounding box and the channels' ranges), and
+    // whether one is NaN or infinite, in one pass over the input in its own order (min and max are
+    // exact: the order they see the values in does not matter); the values are then gathered in
+    // canonical order already centred, each written once.
     double lowest[zerotree::kMaxComponents], highest[zerotree::kMaxComponents];  // K <= kMaxComponents: checked above
-    std::fill_n(lowest, k_stride, std::numeric_limits<double>::infinity());
-    std::fill_n(highest, k_stride, -std::numeric_limits<double>::infinity());
-    reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
-    // Whether a coordinate ([0]) or a channel value ([1]) is NaN or infinite, checked here rather
-    // than in a pass of its own over the input (thrown below, before anything is computed from them).
+    // Whether a coordinate ([0]) or a channel value ([1]) is NaN or infinite.
     bool nonfinite[2] = {false, false};
-    // One value at a time (push_back inlines; a 3-value insert per vertex is a memmove call).
-    for (std::uint32_t v = 0; v < V; ++v) {
-      const std::size_t old = in_order ? v : old_vertex[v];
-      std::size_t k = 0;
-      auto append = [&](double x) {
-        values.push_back(x);
-        lowest[k] = std::min(lowest[k], x);
-        highest[k] = std::max(highest[k], x);
-        nonfinite[k >= 3] |= !(std::abs(x) <= std::numeric_limits<double>::max());
-        ++k;
-      };
-      for (std::size_t i = 0; i < 3; ++i) append(input.positions[3 * old + i]);
-      for (const VertexChannel& c : input.channels) {
-        const std::size_t n = static_cast<std::size_t>(c.components);
-        for (std::size_t i = 0; i < n; ++i) append(c.values[n * old + i]);
-      }
+    auto take_extremes = [&](const std::vector<double>& array, std::size_t n, std::size_t first) {
+      // In locals: in the arrays, every value's update would be stored and loaded back.
+      double low[zerotree::kMaxComponents], high[zerotree::kMaxComponents];
+      std::fill_n(low, n, std::numeric_limits<double>::infinity());
+      std::fill_n(high, n, -std::numeric_limits<double>::infinity());
+      bool bad = false;
+      for (std::size_t v = 0; v < V; ++v)
+        for (std::size_t i = 0; i < n; ++i) {
+          const double x = array[n * v + i];
+          low[i] = std::min(low[i], x);
+          high[i] = std::max(high[i], x);
+          bad |= !(std::abs(x) <= std::numeric_limits<double>::max());
+        }
+      std::copy_n(low, n, lowest + first);
+      std::copy_n(high, n, highest + first);
+      nonfinite[first >= 3] |= bad;
+    };
+    take_extremes(input.positions, 3, 0);
+    std::size_t offset = 3;
+    for (const VertexChannel& c : input.channels) {
+      take_extremes(c.values, static_cast<std::size_t>(c.components), offset);
+      offset += static_cast<std::size_t>(c.components);
     }
     if (nonfinite[0]) throw MeshError("encode: a vertex coordinate is NaN or infinite");
     if (nonfinite[1]) throw MeshError("encode: a channel value is NaN or infinite");
@@ -316,7 +318,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     header.step = std::ldexp(diagonal, -options.precision_bits);
     // Each channel: centred on the middle of each component's range, one step for all its
     // components from the widest range.
-    std::size_t offset = 3;
+    offset = 3;
     for (const VertexChannel& c : input.channels) {
       ChannelQuantization hc;
       hc.components = c.components;
@@ -332,16 +334,30 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       offset += static_cast<std::size_t>(c.components);
     }
 
-    // The values centred (on the header's centres: the decoder adds the same).
-    std::vector<double> centre(header.center.begin(), header.center.end());
-    for (const ChannelQuantization& c : header.channels) centre.insert(centre.end(), c.center.begin(), c.center.end());
-    for (std::uint32_t v = 0; v < V; ++v)
-      for (std::size_t k = 0; k < k_stride; ++k) values[k_stride * v + k] -= centre[k];
+    // The values in canonical order, centred (on the header's centres: the decoder adds the same).
+    double centre[zerotree::kMaxComponents];
+    std::copy(header.center.begin(), header.center.end(), centre);
+    offset = 3;
+    for (const ChannelQuantization& c : header.channels) {
+      std::copy(c.center.begin(), c.center.end(), centre + offset);
+      offset += c.center.size();
+    }
+    reserve_large(values, std::size_t{V} * k_stride);  // appended: each value written once
+    // One value at a time (push_back inlines; a 3-value insert per vertex is a memmove call).
+    for (std::uint32_t v = 0; v < V; ++v) {
+      const std::size_t old = in_order ? v : old_vertex[v];
+      for (std::size_t i = 0; i < 3; ++i) values.push_back(input.positions[3 * old + i] - centre[i]);
+      std::size_t k = 3;
+      for (const VertexChannel& c : input.channels) {
+        const std::size_t n = static_cast<std::size_t>(c.components);
+        for (std::size_t i = 0; i < n; ++i) values.push_back(c.values[n * old + i] - centre[k++]);
+      }
+    }
+    forest.emplace(h);  // the coefficient tree for the bit planes (the other side takes longer)
   });
   const WaveletTransform& transform = *transform_tables;
-  // The level weights beside the analysis, the coefficient tree for the bit planes and the
-  // quantized records' pages made resident (every record is written below).
-  std::optional<zerotree::Forest> forest;
+  // The level weights beside the analysis and the quantized records' pages made resident (every
+  // record is written below).
   zerotree::Quantized q;
   q.components = K;
   run_both(
@@ -353,7 +369,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       [&] {
         // Analysis of the centred values: base values at [0, V0), details at the odd vertices.
         transform.analyze(values, K);
-        forest.emplace(h);
         q.allocate(values.size());
         populate(q.coefficients.get(), q.size * sizeof(zerotree::Quantized::Coefficient));
       });
