@@ -221,16 +221,47 @@ std::optional<CoarseLevel> coarsen(std::uint32_t vertices, const std::vector<std
   return coarse;
 }
 
+
+/// The splits of a level-ordered hierarchy (recover_level_ordered), finest first, as coarsen()
+/// would have undone them: every level numbers its vertices as the mesh does.
+std::vector<CoarseLevel> splits_of(const SemiRegularHierarchy& h) {
+  std::vector<CoarseLevel> splits;
+  for (int j = h.levels() - 1; j >= 0; --j) {
+    const TriangleTopology& t = h.topology(j);
+    CoarseLevel split;
+    split.vertex_count = h.vertex_count(j);
+    split.triangles = t.triangles;
+    split.fine_vertex.resize(split.vertex_count);
+    for (std::uint32_t v = 0; v < split.vertex_count; ++v) split.fine_vertex[v] = v;
+    split.odd_on_edge.reserve(t.edge_count());
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e)
+      split.odd_on_edge.emplace(CoarseLevel::key(t.edge_vertices[2 * e], t.edge_vertices[2 * e + 1]), h.odd_vertex(j, e));
+    splits.push_back(std::move(split));
+  }
+  return splits;
+}
+
 }  // namespace
 
 std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh) {
   if (mesh.vertex_count() >= kNone) return std::nullopt;
-  if (auto ordered = recover_level_ordered(mesh)) return ordered;  // fast path: already in level order
-
   // Undo 1:4 splits while possible: levels[0] undoes the finest split.
   std::vector<CoarseLevel> levels;
   std::uint32_t vertices = static_cast<std::uint32_t>(mesh.vertex_count());
   const std::vector<std::uint32_t>* triangles = &mesh.triangles;
+  if (auto ordered = recover_level_ordered(mesh)) {
+    // Fast path: levels already in level order. Its base may itself be a refinement numbered
+    // otherwise (a semi-regular mesh refined by a tool that numbers the new vertices in its own
+    // edge order, as `meshlift subdivide` does): the splits below it are undone as any others.
+    const SemiRegularHierarchy& h = ordered->hierarchy;
+    std::optional<CoarseLevel> below;
+    if (h.levels() < kMaxLevels) below = coarsen(h.vertex_count(0), h.triangles(0));
+    if (!below) return ordered;
+    levels = splits_of(h);
+    levels.push_back(std::move(*below));
+    vertices = levels.back().vertex_count;
+    triangles = &levels.back().triangles;
+  }
   while (static_cast<int>(levels.size()) < kMaxLevels) {
     auto coarse = coarsen(vertices, *triangles);
     if (!coarse) break;

@@ -132,3 +132,27 @@ TEST_CASE("remesh() takes a semi-regular input over as it is", "[remesh][recover
   CHECK(result.base_vertices == 12);
   CHECK(geometric_faces(result.mesh.finest()) == geometric_faces(input));
 }
+
+TEST_CASE("A level-ordered mesh refined again in another numbering recovers every level", "[remesh][recover]") {
+  // A semi-regular mesh in level order (a remesh as `meshlift remesh` writes it), refined once
+  // more by a tool that takes it as a plain mesh and numbers the new vertices in its own edge
+  // order (`meshlift subdivide`: TriangleTopology::build of the finest faces). Its top split is
+  // level-ordered, the ones below are not in that numbering: all must be undone, down to the
+  // icosahedron, not just the top one.
+  const int levels = GENERATE(1, 2, 3);
+  SemiRegularMesh ordered = refine_linear(test::icosahedron(), levels);
+  ordered.positions = perturbed(TriangleMesh{ordered.positions, {}}, 1e-3, 13).positions;
+  const SemiRegularMesh again = refine_linear(ordered.finest(), 1);
+  const TriangleMesh input = again.finest();
+  const auto recovered = recover_semi_regular(input);
+  REQUIRE(recovered.has_value());
+  CHECK(recovered->hierarchy.levels() == levels + 1);
+  CHECK(recovered->hierarchy.vertex_count(0) == 12);
+  CHECK(geometric_faces(recovered->finest()) == geometric_faces(input));
+  CHECK(geometric_faces(recovered->mesh_at(0, recovered->positions)) ==
+        geometric_faces(ordered.mesh_at(0, ordered.positions)));
+  // And remesh() takes it over as it is, with every level.
+  const RemeshResult result = remesh(input);
+  CHECK(result.recognized);
+  CHECK(result.mesh.hierarchy.levels() == levels + 1);
+}
