@@ -7,6 +7,11 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <charconv>
+#include <string_view>
+#include <type_traits>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -203,13 +208,6 @@ class FlatImporter : public OpenMesh::IO::BaseImporter {
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
   throw MeshIOError(path + ": " + problem);
 }
-
-/// Double-precision points so nothing is lost before OpenMesh's writers take over.
-struct WriteTraits : OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;
-  using Normal = OpenMesh::Vec3d;
-};
-using WriteMesh = OpenMesh::PolyMesh_ArrayKernelT<WriteTraits>;
 
 std::string random_suffix() {
   std::random_device device;
@@ -503,85 +501,271 @@ PolygonMesh read_mesh(const std::string& path) {
   return mesh;
 }
 
-void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) {
+namespace {
+
+// ---- Writers ----
+// Written straight from the arrays (no half-edge mesh in between, so any faces are stored as
+// given, non-manifold ones too), a buffer at a time. Coordinates are stored as 32-bit floats
+// (what PLY's `property float` and binary STL hold; the ascii formats get the same values), in
+// text as the shortest digits that read back to the same float (std::to_chars).
+
+/// The faces of a TriangleMesh or a PolygonMesh, alike for the writers.
+struct TriangleFaces {
+  const std::vector<std::uint32_t>& triangles;
+  std::size_t count() const { return triangles.size() / 3; }
+  std::size_t size(std::size_t) const { return 3; }
+  const std::uint32_t* corners(std::size_t f) const { return triangles.data() + 3 * f; }
+};
+struct PolygonFaces {
+  const PolygonMesh& mesh;
+  std::size_t count() const { return mesh.face_count(); }
+  std::size_t size(std::size_t f) const { return mesh.face_size(f); }
+  const std::uint32_t* corners(std::size_t f) const { return mesh.face_indices.data() + mesh.face_offsets[f]; }
+};
+
+/// Bytes to a stream through a buffer of kBufferBytes; the stream's state is checked by the caller.
+class Output {
+ public:
+  explicit Output(std::ofstream& out) : out_(out) { buffer_.reserve(kBufferBytes + kSlack); }
+  ~Output() { flush(); }
+  Output(const Output&) = delete;
+  Output& operator=(const Output&) = delete;
+
+  void text(std::string_view s) {
+    buffer_.append(s);
+    maybe_flush();
+  }
+  /// The float nearest x, in the shortest digits that read back to it.
+  void number(float x) {
+    char digits[32];
+    const auto r = std::to_chars(digits, digits + sizeof digits, x);
+    buffer_.append(digits, static_cast<std::size_t>(r.ptr - digits));
+  }
+  void integer(std::uint64_t x) {
+    char digits[24];
+    const auto r = std::to_chars(digits, digits + sizeof digits, x);
+    buffer_.append(digits, static_cast<std::size_t>(r.ptr - digits));
+  }
+  void character(char c) {
+    buffer_.push_back(c);
+    maybe_flush();
+  }
+  /// Little-endian, whatever the machine's order.
+  template <class T>
+  void little_endian(T x) {
+    static_assert(sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4);
+    using Bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>;
+    const auto bits = std::bit_cast<Bits>(x);
+    for (std::size_t i = 0; i < sizeof(T); ++i) buffer_.push_back(static_cast<char>((bits >> (8 * i)) & 0xff));
+    maybe_flush();
+  }
+  void flush() {
+    if (!buffer_.empty()) out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    buffer_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kBufferBytes = std::size_t{1} << 20, kSlack = 4096;
+  void maybe_flush() {
+    if (buffer_.size() >= kBufferBytes) flush();
+  }
+  std::ofstream& out_;
+  std::string buffer_;
+};
+
+/// A vertex as the file stores it.
+std::array<float, 3> stored_point(const std::vector<double>& positions, std::uint32_t v) {
+  return {static_cast<float>(positions[3 * std::size_t{v}]), static_cast<float>(positions[3 * std::size_t{v} + 1]),
+          static_cast<float>(positions[3 * std::size_t{v} + 2])};
+}
+
+void write_point(Output& out, const std::array<float, 3>& p) {
+  out.number(p[0]);
+  out.character(' ');
+  out.number(p[1]);
+  out.character(' ');
+  out.number(p[2]);
+}
+
+template <class Faces>
+void write_off(Output& out, const std::vector<double>& positions, const Faces& faces) {
+  const std::size_t V = positions.size() / 3;
+  out.text("OFF\n");
+  out.integer(V);
+  out.character(' ');
+  out.integer(faces.count());
+  out.text(" 0\n");
+  for (std::uint32_t v = 0; v < V; ++v) {
+    write_point(out, stored_point(positions, v));
+    out.character('\n');
+  }
+  for (std::size_t f = 0; f < faces.count(); ++f) {
+    out.integer(faces.size(f));
+    for (std::size_t c = 0; c < faces.size(f); ++c) {
+      out.character(' ');
+      out.integer(faces.corners(f)[c]);
+    }
+    out.character('\n');
+  }
+}
+
+template <class Faces>
+void write_obj(Output& out, const std::vector<double>& positions, const Faces& faces) {
+  const std::size_t V = positions.size() / 3;
+  out.text("# " + std::to_string(V) + " vertices, " + std::to_string(faces.count()) + " faces\n");
+  for (std::uint32_t v = 0; v < V; ++v) {
+    out.text("v ");
+    write_point(out, stored_point(positions, v));
+    out.character('\n');
+  }
+  for (std::size_t f = 0; f < faces.count(); ++f) {
+    out.character('f');
+    for (std::size_t c = 0; c < faces.size(f); ++c) {
+      out.character(' ');
+      out.integer(std::uint64_t{faces.corners(f)[c]} + 1);  // OBJ counts from 1
+    }
+    out.character('\n');
+  }
+}
+
+template <class Faces>
+void write_ply(Output& out, const std::vector<double>& positions, const Faces& faces, bool binary) {
+  const std::size_t V = positions.size() / 3;
+  std::size_t largest = 0;
+  for (std::size_t f = 0; f < faces.count(); ++f) largest = std::max(largest, faces.size(f));
+  const bool byte_counts = largest <= 255;  // a face's corner count in a uchar where it fits
+  out.text(std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") + " 1.0\nelement vertex " +
+           std::to_string(V) + "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+           std::to_string(faces.count()) + "\nproperty list " + (byte_counts ? "uchar" : "int") +
+           " int vertex_indices\nend_header\n");
+  for (std::uint32_t v = 0; v < V; ++v) {
+    const std::array<float, 3> p = stored_point(positions, v);
+    if (binary) {
+      for (const float x : p) out.little_endian(x);
+    } else {
+      write_point(out, p);
+      out.character('\n');
+    }
+  }
+  for (std::size_t f = 0; f < faces.count(); ++f) {
+    const std::size_t n = faces.size(f);
+    const std::uint32_t* corners = faces.corners(f);
+    if (binary) {
+      if (byte_counts)
+        out.little_endian(static_cast<std::uint8_t>(n));
+      else
+        out.little_endian(static_cast<std::int32_t>(n));
+      for (std::size_t c = 0; c < n; ++c) out.little_endian(static_cast<std::int32_t>(corners[c]));
+    } else {
+      out.integer(n);
+      for (std::size_t c = 0; c < n; ++c) {
+        out.character(' ');
+        out.integer(corners[c]);
+      }
+      out.character('\n');
+    }
+  }
+}
+
+/// STL: each triangle with its unit normal from its stored corners (zero if it has no area).
+template <class Faces>
+void write_stl(Output& out, const std::vector<double>& positions, const Faces& faces, bool binary) {
+  if (binary) {
+    // An 80-byte header that does not start with "solid" (readers take that for ascii).
+    std::string header = "binary STL written by meshlift";
+    header.resize(80, ' ');
+    out.text(header);
+    out.little_endian(static_cast<std::uint32_t>(faces.count()));
+  } else {
+    out.text("solid meshlift\n");
+  }
+  for (std::size_t f = 0; f < faces.count(); ++f) {
+    const std::uint32_t* corners = faces.corners(f);
+    const std::array<float, 3> p[3] = {stored_point(positions, corners[0]), stored_point(positions, corners[1]),
+                                       stored_point(positions, corners[2])};
+    const double u[3] = {double{p[1][0]} - p[0][0], double{p[1][1]} - p[0][1], double{p[1][2]} - p[0][2]};
+    const double w[3] = {double{p[2][0]} - p[0][0], double{p[2][1]} - p[0][1], double{p[2][2]} - p[0][2]};
+    double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& x : n) x = length > 0 ? x / length : 0.0;
+    const std::array<float, 3> normal = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
+    if (binary) {
+      for (const float x : normal) out.little_endian(x);
+      for (const auto& corner : p)
+        for (const float x : corner) out.little_endian(x);
+      out.little_endian(std::uint16_t{0});
+    } else {
+      out.text("facet normal ");
+      write_point(out, normal);
+      out.text("\n  outer loop\n");
+      for (const auto& corner : p) {
+        out.text("    vertex ");
+        write_point(out, corner);
+        out.character('\n');
+      }
+      out.text("  endloop\nendfacet\n");
+    }
+  }
+  if (!binary) out.text("endsolid meshlift\n");
+}
+
+template <class Faces>
+void write_faces(const std::string& path, const std::vector<double>& positions, const Faces& faces, bool binary) {
   const std::string ext = extension_of(path);
   if (!is_supported_extension(ext))
     fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
-  if (mesh.positions.size() % 3 != 0) fail(path, "positions array length is not a multiple of 3");
-  if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 ||
-      mesh.face_offsets.back() != mesh.face_indices.size())
-    fail(path, "face_offsets does not span face_indices");
-  const std::size_t vertex_count = mesh.vertex_count();
-  // OpenMesh 9's writers store 32-bit floats: a coordinate outside the float range would be
-  // written as "inf" (or a binary infinity), a file no reader accepts back.
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-    if (!std::isfinite(static_cast<float>(mesh.positions[i]))) {
+  if (positions.size() % 3 != 0) fail(path, "positions array length is not a multiple of 3");
+  const std::size_t vertex_count = positions.size() / 3;
+  // The files store 32-bit floats: a coordinate outside their range would be written as "inf"
+  // (or a binary infinity), a file no reader accepts back.
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(static_cast<float>(positions[i]))) {
       std::ostringstream value;
-      value << mesh.positions[i];
+      value << positions[i];
       fail(path, "vertex " + std::to_string(i / 3) + " has coordinate " + value.str() +
                      ", outside the 32-bit float range of mesh files (scale the mesh down)");
     }
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    if (mesh.face_offsets[f + 1] < mesh.face_offsets[f]) fail(path, "face_offsets is not increasing");
-    if (ext == "stl" && mesh.face_size(f) != 3)
-      fail(path, "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) +
-                     " corners: STL stores triangles only");
-    if (mesh.face_size(f) < 3)
-      fail(path, "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) + " corners");
-    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
-      if (mesh.face_indices[c] >= vertex_count)
-        fail(path, "face " + std::to_string(f) + " references vertex " + std::to_string(mesh.face_indices[c]) +
-                       " of " + std::to_string(vertex_count));
-      // OpenMesh's add_face does not detect a repeated corner; it would corrupt the half-edges.
-      for (std::uint32_t d = mesh.face_offsets[f]; d < c; ++d)
-        if (mesh.face_indices[d] == mesh.face_indices[c])
-          fail(path, "face " + std::to_string(f) + " repeats vertex " + std::to_string(mesh.face_indices[c]));
+  for (std::size_t f = 0; f < faces.count(); ++f) {
+    const std::size_t n = faces.size(f);
+    if (ext == "stl" && n != 3)
+      fail(path, "face " + std::to_string(f) + " has " + std::to_string(n) + " corners: STL stores triangles only");
+    if (n < 3) fail(path, "face " + std::to_string(f) + " has " + std::to_string(n) + " corners");
+    const std::uint32_t* corners = faces.corners(f);
+    for (std::size_t c = 0; c < n; ++c) {
+      if (corners[c] >= vertex_count)
+        fail(path, "face " + std::to_string(f) + " references vertex " + std::to_string(corners[c]) + " of " +
+                       std::to_string(vertex_count));
+      // A face through one vertex twice has no well-defined surface: refused, not dropped.
+      for (std::size_t d = 0; d < c; ++d)
+        if (corners[d] == corners[c])
+          fail(path, "face " + std::to_string(f) + " repeats vertex " + std::to_string(corners[c]));
     }
   }
-
-  WriteMesh om;
-  om.reserve(vertex_count, mesh.face_indices.size(), mesh.face_count());
-  for (std::size_t v = 0; v < vertex_count; ++v)
-    om.add_vertex(WriteMesh::Point(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
-  std::vector<VertexHandle> corners;
-  {
-    OpenMeshChatterCapture capture;  // add_face reports "complex edge/vertex" on omerr
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-      corners.clear();
-      for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
-        corners.push_back(VertexHandle(static_cast<int>(mesh.face_indices[c])));
-      if (!om.add_face(corners).is_valid())
-        fail(path, "face " + std::to_string(f) +
-                       " cannot be stored in OpenMesh's half-edge mesh (non-manifold or repeated corner)");
-    }
-  }
-
-  OpenMesh::IO::Options options;
-  if (binary && (ext == "ply" || ext == "stl")) options += OpenMesh::IO::Options::Binary;
-  // OpenMesh 9 writers store points as 32-bit float; 9 significant digits round-trip a float exactly.
-  const std::streamsize precision = 9;
 
   const fs::path target(path);
   const std::string temporary = path + ".tmp-" + random_suffix();
   bool written = false;
-  std::string complaint;
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out.is_open()) fail(path, "cannot create temporary file " + temporary);
-    OpenMeshChatterCapture capture;
-    try {
-      written = OpenMesh::IO::write_mesh(om, out, ext, options, precision);
-    } catch (const std::exception& e) {
-      complaint = e.what();
+    {
+      Output o(out);
+      if (ext == "off")
+        write_off(o, positions, faces);
+      else if (ext == "obj")
+        write_obj(o, positions, faces);
+      else if (ext == "ply")
+        write_ply(o, positions, faces, binary);
+      else
+        write_stl(o, positions, faces, binary);
     }
     out.flush();
-    written = written && out.good();
-    if (complaint.empty()) complaint = capture.complaint();
+    written = out.good();
   }
   std::error_code ec;
   if (!written) {
     fs::remove(temporary, ec);
-    fail(path, "the " + ext + " writer failed" + (complaint.empty() ? "" : " (" + complaint + ")"));
+    fail(path, "cannot write " + temporary + " (disk full?)");
   }
   fs::rename(temporary, target, ec);
   if (ec) {
@@ -591,9 +775,19 @@ void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) {
   }
 }
 
+}  // namespace
+
+void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) {
+  if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 || mesh.face_offsets.back() != mesh.face_indices.size())
+    fail(path, "face_offsets does not span face_indices");
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    if (mesh.face_offsets[f + 1] < mesh.face_offsets[f]) fail(path, "face_offsets is not increasing");
+  write_faces(path, mesh.positions, PolygonFaces{mesh}, binary);
+}
+
 void write_mesh(const std::string& path, const TriangleMesh& mesh, bool binary) {
   if (mesh.triangles.size() % 3 != 0) fail(path, "triangles array length is not a multiple of 3");
-  write_mesh(path, to_polygon_mesh(mesh), binary);
+  write_faces(path, mesh.positions, TriangleFaces{mesh.triangles}, binary);
 }
 
 }  // namespace meshlift

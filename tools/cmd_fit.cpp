@@ -3,7 +3,7 @@
 // One stderr line per iteration (its residual), then a summary. If the residual has not reached
 // the tolerance within the iterations, the last control mesh is still written, the summary says
 // "not converged", and the exit code is 0: the result is valid, only less exact than asked.
-// Mesh files store 32-bit float coordinates (OpenMesh's writers), so the written mesh interpolates
+// Mesh files store 32-bit float coordinates (mesh_io.h), so the written mesh interpolates
 // only to about 1e-7 x diagonal; the summary also prints the residual of the written positions.
 #include <algorithm>
 #include <cmath>

@@ -129,17 +129,12 @@ TEST_CASE("writing replaces an existing file atomically and refuses what it cann
   REQUIRE(read_mesh(path).face_count() == 20);
   REQUIRE(dir.entries() == 1);
 
-  PolygonMesh fin = to_polygon_mesh(test::disk(3));  // vertices 0 (centre), 1, 2, 3
-  fin.positions.insert(fin.positions.end(), {0, 0, -1, 0, 0, 1});
-  // Three triangles on edge (0,1): the half-edge mesh cannot hold the third; nothing is written.
-  fin.face_indices = {0, 1, 2, 1, 0, 4, 0, 1, 5};
-  fin.face_offsets = {0, 3, 6, 9};
-  REQUIRE_THROWS_AS(write_mesh(path, fin), MeshIOError);
-  REQUIRE(read_mesh(path).face_count() == 20);  // the old file is untouched
-  REQUIRE(dir.entries() == 1);
-
+  // A face through one vertex twice is refused, and the old file is untouched.
   PolygonMesh repeated = to_polygon_mesh(test::icosahedron());
   repeated.face_indices[1] = repeated.face_indices[0];
+  REQUIRE_THROWS_AS(write_mesh(path, repeated), MeshIOError);
+  REQUIRE(read_mesh(path).face_count() == 20);
+  REQUIRE(dir.entries() == 1);
   REQUIRE_THROWS_AS(write_mesh(dir.file("repeated.off"), repeated), MeshIOError);
   PolygonMesh out_of_range = to_polygon_mesh(test::icosahedron());
   out_of_range.face_indices[4] = 12;
@@ -147,6 +142,33 @@ TEST_CASE("writing replaces an existing file atomically and refuses what it cann
   REQUIRE_THROWS_AS(write_mesh(dir.file("mesh.xyz"), test::icosahedron()), MeshIOError);
   REQUIRE_THROWS_AS(write_mesh(dir.file("missing_dir/mesh.off"), test::icosahedron()), MeshIOError);
   REQUIRE(dir.entries() == 1);
+}
+
+TEST_CASE("non-manifold meshes and polygons of many corners are written verbatim", "[mesh_io]") {
+  ScratchDir dir("write_verbatim");
+  // Three triangles on edge (0, 1) (no half-edge mesh holds the third), and a 300-corner
+  // polygon (more corners than a PLY uchar count holds).
+  PolygonMesh mesh = to_polygon_mesh(test::disk(3));  // vertices 0 (centre), 1, 2, 3
+  mesh.positions.insert(mesh.positions.end(), {0, 0, -1, 0, 0, 1});
+  mesh.face_indices = {0, 1, 2, 1, 0, 4, 0, 1, 5};
+  mesh.face_offsets = {0, 3, 6, 9};
+  const std::uint32_t first = static_cast<std::uint32_t>(mesh.vertex_count());
+  for (int i = 0; i < 300; ++i) {
+    const double angle = 2 * 3.14159265358979 * i / 300;
+    mesh.positions.insert(mesh.positions.end(), {5 + std::cos(angle), 5 + std::sin(angle), 0.125 * i});
+    mesh.face_indices.push_back(first + static_cast<std::uint32_t>(i));
+  }
+  mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
+  for (const auto& [name, binary] : {std::pair{"m.off", false}, std::pair{"m.obj", false}, std::pair{"m.ply", false},
+                                     std::pair{"mb.ply", true}}) {
+    INFO(name);
+    write_mesh(dir.file(name), mesh, binary);
+    const PolygonMesh read = read_mesh(dir.file(name));
+    CHECK(read.face_offsets == mesh.face_offsets);
+    CHECK(read.face_indices == mesh.face_indices);
+    REQUIRE(read.positions.size() == mesh.positions.size());
+    for (std::size_t i = 0; i < read.positions.size(); ++i) CHECK(read.positions[i] == as_float(mesh.positions[i]));
+  }
 }
 
 TEST_CASE("non-manifold files are read verbatim", "[mesh_io]") {

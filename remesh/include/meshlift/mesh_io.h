@@ -47,14 +47,15 @@ PolygonMesh read_mesh(const std::string& path);
 ///
 /// The file is written to `path + ".tmp-XXXXXXXX"` in the same directory and renamed over
 /// `path` only when complete, so an interrupted write never leaves a partial file at `path`.
-/// Ascii coordinates are written with 9 significant digits, which is exact for the 32-bit
-/// floats that OpenMesh 9's writers store (they convert every point to float).
+/// Written straight from the arrays, faces as given (non-manifold ones too). Coordinates are
+/// stored as 32-bit floats (PLY's `property float`, binary STL's), in the ascii formats as the
+/// shortest digits that read back to the same float. PLY face lists count corners in a uchar,
+/// or an int where a face has more than 255; STL gets each triangle's unit normal.
 ///
 /// \pre   face_offsets is consistent and every index names an existing vertex.
-/// \throw MeshIOError if the extension is unknown, the mesh breaks the precondition, a face
-///        cannot be stored in OpenMesh's half-edge mesh (non-manifold or repeated-corner faces:
-///        nothing is dropped silently), STL is asked to store a non-triangle face, or the file
-///        cannot be written or renamed.
+/// \throw MeshIOError if the extension is unknown, the mesh breaks the precondition, a face has
+///        fewer than 3 corners or repeats one, a coordinate is outside the float range, STL is
+///        asked to store a non-triangle face, or the file cannot be written or renamed.
 void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary = false);
 
 /// Same as the PolygonMesh overload, for a triangle mesh.
