@@ -14,6 +14,7 @@
 // never a guess.
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -76,13 +77,25 @@ struct CoarseLevel {
   std::uint32_t vertex_count = 0;
   std::vector<std::uint32_t> triangles;
   std::vector<std::uint32_t> fine_vertex;  ///< coarse vertex -> its (even) fine vertex
-  /// (min, max) coarse edge endpoints -> the fine odd vertex on it
+  /// (min, max) coarse edge endpoints -> the fine odd vertex on it (the splits coarsen() undoes)
   std::unordered_map<std::uint64_t, std::uint32_t> odd_on_edge;
+  /// Or, for a level of a level-ordered hierarchy (splits_of), its topology: the odd vertex on
+  /// edge e is first_odd + e, the edge found among its endpoints' incident edges.
+  const TriangleTopology* topology = nullptr;
+  std::optional<VertexEdges> incident;
+  std::uint32_t first_odd = 0;
 
   static std::uint64_t key(std::uint32_t a, std::uint32_t b) {
     return (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
   }
   std::uint32_t odd(std::uint32_t a, std::uint32_t b) const {
+    if (topology != nullptr) {
+      for (std::uint32_t k = incident->offsets[a]; k < incident->offsets[a + 1]; ++k) {
+        const std::uint32_t e = incident->edges[k];
+        if (topology->edge_vertices[2 * e] + topology->edge_vertices[2 * e + 1] - a == b) return first_odd + e;
+      }
+      return kNone;
+    }
     const auto it = odd_on_edge.find(key(a, b));
     return it == odd_on_edge.end() ? kNone : it->second;
   }
@@ -227,51 +240,22 @@ std::optional<CoarseLevel> coarsen(std::uint32_t vertices, const std::vector<std
 std::vector<CoarseLevel> splits_of(const SemiRegularHierarchy& h) {
   std::vector<CoarseLevel> splits;
   for (int j = h.levels() - 1; j >= 0; --j) {
-    const TriangleTopology& t = h.topology(j);
     CoarseLevel split;
     split.vertex_count = h.vertex_count(j);
-    split.triangles = t.triangles;
     split.fine_vertex.resize(split.vertex_count);
     for (std::uint32_t v = 0; v < split.vertex_count; ++v) split.fine_vertex[v] = v;
-    split.odd_on_edge.reserve(t.edge_count());
-    for (std::uint32_t e = 0; e < t.edge_count(); ++e)
-      split.odd_on_edge.emplace(CoarseLevel::key(t.edge_vertices[2 * e], t.edge_vertices[2 * e + 1]), h.odd_vertex(j, e));
+    split.topology = &h.topology(j);
+    split.incident.emplace(h.topology(j));
+    split.first_odd = h.vertex_count(j);
     splits.push_back(std::move(split));
   }
   return splits;
 }
 
-}  // namespace
-
-std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh) {
-  if (mesh.vertex_count() >= kNone) return std::nullopt;
-  // Undo 1:4 splits while possible: levels[0] undoes the finest split.
-  std::vector<CoarseLevel> levels;
-  std::uint32_t vertices = static_cast<std::uint32_t>(mesh.vertex_count());
-  const std::vector<std::uint32_t>* triangles = &mesh.triangles;
-  if (auto ordered = recover_level_ordered(mesh)) {
-    // Fast path: levels already in level order. Its base may itself be a refinement numbered
-    // otherwise (a semi-regular mesh refined by a tool that numbers the new vertices in its own
-    // edge order, as `meshlift subdivide` does): the splits below it are undone as any others.
-    const SemiRegularHierarchy& h = ordered->hierarchy;
-    std::optional<CoarseLevel> below;
-    if (h.levels() < kMaxLevels) below = coarsen(h.vertex_count(0), h.triangles(0));
-    if (!below) return ordered;
-    levels = splits_of(h);
-    levels.push_back(std::move(*below));
-    vertices = levels.back().vertex_count;
-    triangles = &levels.back().triangles;
-  }
-  while (static_cast<int>(levels.size()) < kMaxLevels) {
-    auto coarse = coarsen(vertices, *triangles);
-    if (!coarse) break;
-    levels.push_back(std::move(*coarse));
-    vertices = levels.back().vertex_count;
-    triangles = &levels.back().triangles;
-  }
-  if (levels.empty()) return std::nullopt;
+/// The semi-regular mesh whose splits `levels` undid (finest first; levels.back() holds the
+/// base), its vertices numbered level by level.
+SemiRegularMesh assemble(const std::vector<CoarseLevel>& levels, const TriangleMesh& mesh) {
   const int L = static_cast<int>(levels.size());
-
   // Hierarchy numbering -> vertex of each level's mesh, from the base up (level j's mesh is the
   // coarse mesh of levels[L - 1 - j], or the input for j = L).
   SemiRegularHierarchy hierarchy(TriangleTopology::build(levels.back().vertex_count, levels.back().triangles), L);
@@ -290,6 +274,45 @@ std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh) {
   for (std::size_t v = 0; v < to_mesh.size(); ++v)
     for (int k = 0; k < 3; ++k) result.positions[3 * v + k] = mesh.positions[3 * std::size_t{to_mesh[v]} + k];
   return result;
+}
+
+/// Undoes further splits below `levels` (or, if empty, of the mesh itself) while possible.
+void coarsen_further(std::vector<CoarseLevel>& levels, const TriangleMesh& mesh) {
+  while (static_cast<int>(levels.size()) < kMaxLevels) {
+    auto coarse = levels.empty() ? coarsen(static_cast<std::uint32_t>(mesh.vertex_count()), mesh.triangles)
+                                 : coarsen(levels.back().vertex_count, levels.back().triangles);
+    if (!coarse) break;
+    levels.push_back(std::move(*coarse));
+  }
+}
+
+}  // namespace
+
+std::optional<SemiRegularMesh> recover_in_level_order(const TriangleMesh& mesh) {
+  if (mesh.vertex_count() >= kNone) return std::nullopt;
+  std::optional<SemiRegularMesh> ordered = recover_level_ordered(mesh);
+  if (!ordered) return std::nullopt;
+  // Its base may itself be a refinement numbered otherwise (a semi-regular mesh refined by a
+  // tool that numbers the new vertices in its own edge order, as `meshlift subdivide` does): the
+  // splits below it are undone as any others (the base passed TriangleTopology::build).
+  const SemiRegularHierarchy& h = ordered->hierarchy;
+  std::optional<CoarseLevel> below;
+  if (h.levels() < kMaxLevels) below = coarsen(h.vertex_count(0), h.triangles(0));
+  if (!below) return ordered;
+  std::vector<CoarseLevel> levels = splits_of(h);
+  levels.push_back(std::move(*below));
+  coarsen_further(levels, mesh);
+  return assemble(levels, mesh);
+}
+
+std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh) {
+  if (mesh.vertex_count() >= kNone) return std::nullopt;
+  if (auto ordered = recover_in_level_order(mesh)) return ordered;
+  // Undo 1:4 splits while possible: levels[0] undoes the finest split.
+  std::vector<CoarseLevel> levels;
+  coarsen_further(levels, mesh);
+  if (levels.empty()) return std::nullopt;
+  return assemble(levels, mesh);
 }
 
 }  // namespace meshlift

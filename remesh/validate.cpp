@@ -88,7 +88,31 @@ std::string format_double(double x) {
   return buf;
 }
 
+/// The area of the polygon with `n` corners `corners` (indices into p), ½ |Σ (p_i − p_0) ×
+/// (p_{i+1} − p_0)| (its vector area).
+double polygon_area(const std::vector<double>& p, const std::uint32_t* corners, std::size_t n) {
+  const double* o = &p[3 * std::size_t{corners[0]}];
+  double v[3] = {0, 0, 0};
+  for (std::size_t c = 1; c + 1 < n; ++c) {
+    const double* a = &p[3 * std::size_t{corners[c]}];
+    const double* b = &p[3 * std::size_t{corners[c + 1]}];
+    const double u[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
+    const double w[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
+    v[0] += u[1] * w[2] - u[2] * w[1];
+    v[1] += u[2] * w[0] - u[0] * w[2];
+    v[2] += u[0] * w[1] - u[1] * w[0];
+  }
+  return 0.5 * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
 }  // namespace
+
+bool has_nonzero_area_face(const TriangleMesh& mesh) {
+  const double d = bounding_box_diagonal(mesh.positions);
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    if (polygon_area(mesh.positions, &mesh.triangles[3 * f], 3) > kZeroAreaFactor * d * d) return true;
+  return false;
+}
 
 MeshReport validate_mesh(const PolygonMesh& mesh) {
   MeshReport r;
@@ -167,18 +191,7 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
     bool all_finite = true;
     for (std::uint32_t c = begin; c < end; ++c) all_finite = all_finite && finite[corner_vertex[c]];
     if (!all_finite) continue;
-    const double* o = &p[3 * corner_vertex[begin]];
-    double n[3] = {0, 0, 0};
-    for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
-      const double* a = &p[3 * corner_vertex[c]];
-      const double* b = &p[3 * corner_vertex[c + 1]];
-      const double u[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
-      const double w[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
-      n[0] += u[1] * w[2] - u[2] * w[1];
-      n[1] += u[2] * w[0] - u[0] * w[2];
-      n[2] += u[0] * w[1] - u[1] * w[0];
-    }
-    if (0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) <= zero_area) ++r.zero_area_faces;
+    if (polygon_area(p, &corner_vertex[begin], end - begin) <= zero_area) ++r.zero_area_faces;
   }
 
   // ---- edges: sort the half-edges of usable faces by undirected key ----

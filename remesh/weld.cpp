@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
@@ -12,21 +13,41 @@ namespace meshlift {
 
 std::vector<std::uint32_t> first_at_same_position(std::span<const double> p) {
   const std::size_t n = p.size() / 3;
-  // Sort the finite vertices by position (ties by index), and join each run of equal positions
-  // into its lowest index.
-  std::vector<std::uint32_t> order;
-  order.reserve(n);
-  for (std::size_t v = 0; v < n; ++v)
-    if (std::isfinite(p[3 * v]) && std::isfinite(p[3 * v + 1]) && std::isfinite(p[3 * v + 2]))
-      order.push_back(static_cast<std::uint32_t>(v));
-  const auto less = [&](std::uint32_t a, std::uint32_t b) {
-    return std::lexicographical_compare(&p[3 * a], &p[3 * a + 3], &p[3 * b], &p[3 * b + 3]);
-  };
-  std::stable_sort(order.begin(), order.end(), less);  // equal positions stay in index order
   std::vector<std::uint32_t> into(n);
   std::iota(into.begin(), into.end(), 0u);
-  for (std::size_t i = 1; i < order.size(); ++i)
-    if (!less(order[i - 1], order[i])) into[order[i]] = into[order[i - 1]];
+  // The finite vertices in index order through a hash table of the positions seen (open
+  // addressing, at most half full): each finds the first vertex at its position there, or is it.
+  // Expected linear time. A slot holds a vertex + 1 (0: empty) and 32 bits of its position's
+  // hash, so that a probe reads another vertex's coordinates only when those match.
+  const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(2 * n, 2));
+  const std::size_t mask = capacity - 1;
+  std::vector<std::uint64_t> table(capacity, 0);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x + 0.0); };  // -0 + 0 = +0: alike
+  for (std::size_t v = 0; v < n; ++v) {
+    const double* q = &p[3 * v];
+    if (!(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]))) continue;
+    // splitmix64's finalizer over the three coordinates' bits.
+    std::uint64_t h = bits(q[0]);
+    for (const double x : {q[1], q[2]}) {
+      h ^= bits(x) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+      h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+      h ^= h >> 31;
+    }
+    const std::uint64_t tag = h >> 32;
+    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
+      const std::uint64_t entry = table[i];
+      if (entry == 0) {
+        table[i] = tag << 32 | (v + 1);
+        break;
+      }
+      const std::size_t u = (entry & 0xffffffffu) - 1;
+      if ((entry >> 32) == tag && p[3 * u] == q[0] && p[3 * u + 1] == q[1] && p[3 * u + 2] == q[2]) {
+        into[v] = static_cast<std::uint32_t>(u);
+        break;
+      }
+    }
+  }
   return into;
 }
 

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "meshlift/validate.h"
@@ -70,4 +71,28 @@ TEST_CASE("weld: -0 and +0 meet, NaN never does, and faces left without area or 
   CHECK(w.duplicate_faces == 1);  // 3 4 7, the same as 0 1 2
   // Kept: 0 1 2, its reverse (for the validation to name), and the face on the NaN vertices.
   CHECK(w.mesh.triangles == std::vector<std::uint32_t>{0, 1, 2, 2, 1, 0, 3, 4, 0});
+}
+
+TEST_CASE("first_at_same_position: the lowest index at each exact position, as a search over all pairs finds it", "[weld]") {
+  // Positions drawn from a few values (so that many coincide), with -0 and +0, NaN and infinities
+  // among them; against the quadratic definition, at sizes that make the hash table probe far.
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double values[] = {0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, nan, inf, -inf, 3.0};
+  for (const std::size_t n : {std::size_t{1}, std::size_t{7}, std::size_t{300}, std::size_t{3000}}) {
+    std::mt19937 rng(static_cast<unsigned>(n));
+    std::vector<double> p(3 * n);
+    for (double& x : p) x = values[rng() % (n < 100 ? 10 : 4 + rng() % 6)];
+    const std::vector<std::uint32_t> first = first_at_same_position(p);
+    REQUIRE(first.size() == n);
+    for (std::size_t v = 0; v < n; ++v) {
+      std::uint32_t expected = static_cast<std::uint32_t>(v);
+      const bool finite = std::isfinite(p[3 * v]) && std::isfinite(p[3 * v + 1]) && std::isfinite(p[3 * v + 2]);
+      for (std::size_t u = 0; finite && u < v; ++u)
+        if (p[3 * u] == p[3 * v] && p[3 * u + 1] == p[3 * v + 1] && p[3 * u + 2] == p[3 * v + 2]) {
+          expected = static_cast<std::uint32_t>(u);
+          break;
+        }
+      REQUIRE(first[v] == expected);
+    }
+  }
 }

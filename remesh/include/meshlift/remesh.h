@@ -211,6 +211,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options = {})
 /// vertices are renumbered level by level (the finest positions are the input's, permuted) and
 /// its finest faces are the input's faces (same orientation), reordered. Returns the recovery
 /// with the most levels; nullopt when the mesh is not a refinement at all.
+/// \pre every face index is below the vertex count (validate.h), as for remesh().
 std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh);
+
+/// recover_semi_regular()'s first route alone, for a mesh whose top levels are in level order
+/// (a remesh or a decoded file, as recover_level_ordered() finds them), with any further splits
+/// below its base undone too; nullopt for any other mesh. Takes any arrays (no precondition):
+/// the faces must equal the refinement of a base that TriangleTopology::build() accepts, so a
+/// mesh it recognizes is a manifold, consistently oriented triangle mesh without repeated corners.
+std::optional<SemiRegularMesh> recover_in_level_order(const TriangleMesh& mesh);
 
 }  // namespace meshlift

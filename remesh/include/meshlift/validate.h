@@ -103,6 +103,11 @@ struct MeshReport {
 /// resolution of float coordinates (what mesh files and OpenMesh's readers carry).
 inline constexpr double kZeroAreaFactor = 1e-14;
 
+/// Whether some face has an area above kZeroAreaFactor · bbox_diagonal² (the complement of
+/// "every face has zero area" in validate_mesh's terms), stopping at the first.
+/// \pre every index is below the vertex count and the coordinates are finite.
+bool has_nonzero_area_face(const TriangleMesh& mesh);
+
 /// Checks `mesh` and reports what it finds. Never throws on bad data and never reads out of
 /// bounds: arbitrary arrays (out-of-range indices, broken offsets, NaN) are reported, not trusted.
 /// O(n log n) in the number of corners.
