@@ -1,6 +1,7 @@
 #include "meshlift/mesh_io.h"
 
 #include "off_reader.h"
+#include "ply_reader.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
@@ -220,186 +221,9 @@ std::string random_suffix() {
 }
 
 
-// ---- Pre-scan of counts the OpenMesh readers would trust ----
-// OpenMesh 9's PLY reader loops over header and list counts without checking them against the
-// data, pushing into a vector even after the stream has failed: one corrupt count (4e9 corners)
-// exhausts memory before any importer callback can stop it. This scan walks the file the way
-// the reader does and rejects any count larger than the file; every smaller count is then
-// bounded by FlatImporter's element caps. (OFF has its own reader, off_reader.cpp, for this
-// reason: no scan could follow OpenMesh's mix of token and line reading.)
-
-std::size_t ply_type_size(const std::string& type) {
-  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") return 4;
-  if (type == "double" || type == "float64") return 8;
-  return 0;
-}
-
-/// Reads one binary PLY scalar of `type` as a count (negative values become huge).
-std::uintmax_t ply_binary_count(const unsigned char* bytes, const std::string& type, bool big_endian) {
-  const std::size_t n = ply_type_size(type);
-  unsigned char b[8] = {};
-  for (std::size_t i = 0; i < n; ++i) b[i] = bytes[big_endian ? n - 1 - i : i];
-  std::uint64_t u = 0;
-  for (std::size_t i = n; i-- > 0;) u = (u << 8) | b[i];
-  if (type == "float" || type == "float32") {
-    float value;
-    std::uint32_t u32 = static_cast<std::uint32_t>(u);
-    std::memcpy(&value, &u32, 4);
-    return std::isfinite(value) && value >= 0 ? static_cast<std::uintmax_t>(std::min<double>(value, 1e18)) : UINTMAX_MAX;
-  }
-  if (type == "double" || type == "float64") {
-    double value;
-    std::memcpy(&value, &u, 8);
-    return std::isfinite(value) && value >= 0 ? static_cast<std::uintmax_t>(std::min(value, 1e18)) : UINTMAX_MAX;
-  }
-  const bool is_signed = type == "char" || type == "int8" || type == "short" || type == "int16" || type == "int" || type == "int32";
-  if (is_signed && (b[n - 1] & 0x80)) return UINTMAX_MAX;
-  return u;
-}
-
-/// PLY: parses the header, then walks every element item; list counts larger than the bytes
-/// left are rejected, and so are element counts larger than the file.
-std::string ply_count_problem(const std::string& path, std::uintmax_t size) {
-  struct Property {
-    std::string type, count_type;  // count_type empty for a scalar
-  };
-  struct Element {
-    std::string name;
-    std::uintmax_t count = 0;
-    std::vector<Property> properties;
-  };
-  std::ifstream in(path, std::ios::binary);
-  std::string line, format;
-  std::vector<Element> elements;
-  bool ended = false;
-  std::getline(in, line);
-  if (line != "ply" && line != "ply\r") return "not a PLY file (first line is not 'ply')";
-  // OpenMesh's header parser reads keywords until it sees "end_header" and never checks for the
-  // end of the file, so a truncated header or a property line missing a word (which shifts
-  // "end_header" into a name) spins forever: only well-formed headers go on to it.
-  const auto word_count = [](const std::string& text) {
-    std::istringstream words(text);
-    std::size_t n = 0;
-    for (std::string w; words >> w;) ++n;
-    return n;
-  };
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    const std::size_t words_on_line = word_count(line);
-    const auto malformed = [&] { return "malformed PLY header line '" + line.substr(0, 80) + "'"; };
-    if (word == "comment" || word == "obj_info") continue;
-    if (word == "format") {
-      if (words_on_line != 3) return malformed();
-      std::string version;
-      words >> format >> version;
-      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") return malformed();
-      if (version != "1.0") return malformed();  // an unparsable version also stalls OpenMesh's parser
-    } else if (word == "element") {
-      if (words_on_line != 3) return malformed();
-      Element e;
-      std::string count_text;
-      words >> e.name >> count_text;
-      // OpenMesh reads the count into an unsigned int; anything else (".0", "1e3", "-1") fails
-      // that read and its header loop then never sees end_header: digits only.
-      if (count_text.empty() || count_text.find_first_not_of("0123456789") != std::string::npos)
-        return "PLY element line '" + line.substr(0, 80) + "' has no valid count";
-      const long double count = count_text.size() > 19 ? 1e19L : std::stold(count_text);
-      if (count > static_cast<long double>(size))
-        return "PLY header claims " + std::to_string(static_cast<unsigned long long>(std::min<long double>(count, 1e19L))) +
-               " " + e.name + " elements, more than the file's " + std::to_string(size) + " bytes";
-      e.count = static_cast<std::uintmax_t>(count);
-      elements.push_back(e);
-    } else if (word == "property") {
-      if (elements.empty()) return "PLY property before any element";
-      Property property;
-      words >> property.type;
-      if (words_on_line != (property.type == "list" ? 5u : 3u)) return malformed();
-      if (property.type == "list") words >> property.count_type >> property.type;
-      if (ply_type_size(property.type) == 0 || (!property.count_type.empty() && ply_type_size(property.count_type) == 0))
-        return "PLY property line '" + line.substr(0, 80) + "' has an unknown type";
-      elements.back().properties.push_back(property);
-    } else if (word == "end_header") {
-      if (words_on_line != 1) return malformed();
-      ended = true;
-      break;
-    } else {
-      return malformed();
-    }
-  }
-  if (!ended) return "PLY header has no end_header line";
-  if (format.empty()) return "PLY header has no format line";
-  const auto too_long = [&](const Element& e, std::uintmax_t count) {
-    return "a " + e.name + " list claims " + std::to_string(count) + " entries, more than the file's " +
-           std::to_string(size) + " bytes";
-  };
-  if (format == "ascii") {
-    // OpenMesh extracts each value with operator>> into the property's type, so "4-5" is two
-    // numbers to it and "-5" as a list count wraps to 4e9 corners read from a failed stream.
-    // Only tokens that every such extraction reads whole are let through: integers (digits,
-    // optional sign) for integer properties, plain decimals for float properties, and unsigned
-    // digits for list counts; a token boundary is then the same for OpenMesh as here.
-    const auto is_integer = [](const std::string& t) {
-      const std::size_t start = t[0] == '+' || t[0] == '-';
-      return start < t.size() && t.find_first_not_of("0123456789", start) == std::string::npos;
-    };
-    const auto is_decimal = [](const std::string& t) {
-      if (t.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
-      char* end = nullptr;
-      std::strtod(t.c_str(), &end);
-      return end == t.c_str() + t.size();
-    };
-    const auto is_float_type = [](const std::string& type) {
-      return type == "float" || type == "float32" || type == "double" || type == "float64";
-    };
-    const auto bad_value = [&](const Element& e, std::uintmax_t item, const std::string& token) {
-      return "PLY " + e.name + " " + std::to_string(item) + ": '" + token.substr(0, 40) + "' is not a valid number";
-    };
-    std::string token;
-    for (const Element& e : elements)
-      for (std::uintmax_t item = 0; item < e.count; ++item)
-        for (const Property& property : e.properties) {
-          if (!(in >> token)) return "";
-          const auto valid = [&](const std::string& type) { return is_float_type(type) ? is_decimal(token) : is_integer(token); };
-          if (property.count_type.empty()) {
-            if (!valid(property.type)) return bad_value(e, item, token);
-            continue;
-          }
-          if (token.find_first_not_of("0123456789") != std::string::npos) return bad_value(e, item, token);
-          const std::uintmax_t count = token.size() > 19 ? UINTMAX_MAX : std::stoull(token);
-          if (count > size) return too_long(e, count);
-          for (std::uintmax_t k = 0; k < count; ++k) {
-            if (!(in >> token)) return "";
-            if (!valid(property.type)) return bad_value(e, item, token);
-          }
-        }
-    return "";
-  }
-  const bool big_endian = format == "binary_big_endian";
-  std::vector<unsigned char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::size_t at = 0;
-  for (const Element& e : elements)
-    for (std::uintmax_t item = 0; item < e.count; ++item)
-      for (const Property& property : e.properties) {
-        if (property.count_type.empty()) {
-          at += ply_type_size(property.type);
-          if (at > body.size()) return "";
-          continue;
-        }
-        const std::size_t count_size = ply_type_size(property.count_type);
-        if (at + count_size > body.size()) return "";
-        const std::uintmax_t count = ply_binary_count(&body[at], property.count_type, big_endian);
-        at += count_size;
-        if (count > (body.size() - at) / ply_type_size(property.type) + 1) return too_long(e, count);
-        at += count * ply_type_size(property.type);
-        if (at > body.size()) return "";
-      }
-  return "";
-}
+// ---- Pre-scan for OpenMesh's OBJ reader ----
+// (OFF and PLY have readers of their own, off_reader.cpp and ply_reader.cpp: OpenMesh's trusted
+// every count in their headers and lists; docs/HARDENING.md.)
 
 /// OBJ: vertex lines must hold three numbers. The reader is line-based and bounded, but the
 /// Debian build of OpenMesh keeps its
@@ -434,15 +258,14 @@ std::string obj_corner_problem(const std::string& path) {
   return "";
 }
 
-std::string unbounded_count_problem(const std::string& path, const std::string& ext, std::uintmax_t size) {
-  if (ext == "ply") return ply_count_problem(path, size);
+std::string unbounded_count_problem(const std::string& path, const std::string& ext) {
   if (ext == "obj") return obj_corner_problem(path);
   return "";  // the STL reader checks binary sizes against the file
 }
 
-/// OBJ, PLY and STL through OpenMesh's readers, after the pre-scans above.
+/// OBJ and STL through OpenMesh's readers, after the pre-scan above.
 PolygonMesh read_with_openmesh(const std::string& path, const std::string& ext, std::uintmax_t size) {
-  const std::string unsafe = unbounded_count_problem(path, ext, size);
+  const std::string unsafe = unbounded_count_problem(path, ext);
   if (!unsafe.empty()) fail(path, unsafe);
 
   FlatImporter importer(size);
@@ -489,7 +312,9 @@ PolygonMesh read_mesh(const std::string& path) {
     fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
   if (size == 0) fail(path, "file is empty");
 
-  PolygonMesh mesh = ext == "off" ? read_off(path, contents_of(path, size)) : read_with_openmesh(path, ext, size);
+  PolygonMesh mesh = ext == "off"   ? read_off(path, contents_of(path, size))
+                     : ext == "ply" ? read_ply(path, contents_of(path, size))
+                                    : read_with_openmesh(path, ext, size);
   if (mesh.vertex_count() == 0) fail(path, "file has no vertices");
   const std::size_t vertex_count = mesh.vertex_count();
   for (std::size_t f = 0; f < mesh.face_count(); ++f)

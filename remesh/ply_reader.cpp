@@ -1,0 +1,374 @@
+// PLY, ascii and binary. See ply_reader.h.
+#include "ply_reader.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <system_error>
+#include <type_traits>
+#include <vector>
+
+namespace meshlift {
+namespace {
+
+enum class Type : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+std::optional<Type> type_named(std::string_view name) {
+  static constexpr std::pair<std::string_view, Type> kNames[] = {
+      {"char", Type::i8},    {"int8", Type::i8},     {"uchar", Type::u8},    {"uint8", Type::u8},
+      {"short", Type::i16},  {"int16", Type::i16},   {"ushort", Type::u16},  {"uint16", Type::u16},
+      {"int", Type::i32},    {"int32", Type::i32},   {"uint", Type::u32},    {"uint32", Type::u32},
+      {"float", Type::f32},  {"float32", Type::f32}, {"double", Type::f64},  {"float64", Type::f64}};
+  for (const auto& [text, type] : kNames)
+    if (name == text) return type;
+  return std::nullopt;
+}
+
+std::size_t size_of(Type t) {
+  switch (t) {
+    case Type::i8:
+    case Type::u8:
+      return 1;
+    case Type::i16:
+    case Type::u16:
+      return 2;
+    case Type::i32:
+    case Type::u32:
+    case Type::f32:
+      return 4;
+    case Type::f64:
+      return 8;
+  }
+  return 0;
+}
+
+bool is_float(Type t) { return t == Type::f32 || t == Type::f64; }
+
+/// What the reader does with a property's values.
+enum class Role : std::uint8_t { skip, x, y, z, corners };
+
+struct Property {
+  std::string name;
+  Type type = Type::u8;
+  std::optional<Type> count_type;  // a list
+  Role role = Role::skip;
+};
+
+struct Element {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<Property> properties;
+};
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) { throw MeshIOError(path + ": " + problem); }
+
+/// The header's words, line by line, and where the body starts.
+struct Header {
+  bool ascii = true, big_endian = false;
+  std::vector<Element> elements;
+  std::size_t body = 0;
+};
+
+std::vector<std::string_view> words_of(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+Header parse_header(const std::string& path, std::string_view bytes) {
+  Header h;
+  std::size_t at = 0;
+  // The next line, without its LF or CRLF; nullopt at the end of the bytes.
+  auto next_line = [&]() -> std::optional<std::string_view> {
+    if (at >= bytes.size()) return std::nullopt;
+    const std::size_t end = bytes.find('\n', at);
+    std::string_view line = bytes.substr(at, end == std::string_view::npos ? std::string_view::npos : end - at);
+    at = end == std::string_view::npos ? bytes.size() : end + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return line;
+  };
+  const auto first = next_line();
+  if (!first || *first != "ply") fail(path, "not a PLY file (first line is not 'ply')");
+  bool has_format = false;
+  for (;;) {
+    const auto line = next_line();
+    if (!line) fail(path, "PLY header has no end_header line");
+    const std::vector<std::string_view> w = words_of(*line);
+    const auto malformed = [&] { fail(path, "malformed PLY header line '" + std::string(line->substr(0, 80)) + "'"); };
+    if (w.empty()) malformed();
+    if (w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "format") {
+      if (w.size() != 3 || w[2] != "1.0") malformed();
+      if (w[1] == "ascii")
+        h.ascii = true;
+      else if (w[1] == "binary_little_endian" || w[1] == "binary_big_endian")
+        h.ascii = false, h.big_endian = w[1] == "binary_big_endian";
+      else
+        malformed();
+      has_format = true;
+    } else if (w[0] == "element") {
+      if (w.size() != 3) malformed();
+      Element e;
+      e.name = w[1];
+      const std::string_view count = w[2];
+      const auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
+      if (count.empty() || count.find_first_not_of("0123456789") != std::string_view::npos)
+        fail(path, "PLY element line '" + std::string(line->substr(0, 80)) + "' has no valid count");
+      if (r.ec != std::errc() || e.count > bytes.size())
+        fail(path, "PLY header claims " + std::string(count.substr(0, 20)) + " " + e.name +
+                       " elements, more than the file's " + std::to_string(bytes.size()) + " bytes");
+      h.elements.push_back(std::move(e));
+    } else if (w[0] == "property") {
+      if (h.elements.empty()) fail(path, "PLY property before any element");
+      Property p;
+      const bool list = w.size() > 1 && w[1] == "list";
+      if (w.size() != (list ? 5u : 3u)) malformed();
+      const auto type = type_named(w[list ? 3 : 1]);
+      const auto count_type = list ? type_named(w[2]) : std::nullopt;
+      if (!type || (list && !count_type))
+        fail(path, "PLY property line '" + std::string(line->substr(0, 80)) + "' has an unknown type");
+      if (list && is_float(*count_type))
+        fail(path, "PLY property line '" + std::string(line->substr(0, 80)) + "': a list's count must be an integer type");
+      p.type = *type;
+      p.count_type = count_type;
+      p.name = w[list ? 4 : 2];
+      h.elements.back().properties.push_back(std::move(p));
+    } else if (w[0] == "end_header") {
+      if (w.size() != 1) malformed();
+      break;
+    } else {
+      malformed();
+    }
+  }
+  if (!has_format) fail(path, "PLY header has no format line");
+  h.body = at;
+  return h;
+}
+
+/// Binary values, in the file's byte order.
+class BinaryBody {
+ public:
+  BinaryBody(std::string_view bytes, bool big_endian) : bytes_(bytes), big_endian_(big_endian) {}
+  std::size_t left() const { return bytes_.size() - at_; }
+  /// The next value of type t; false at the end of the bytes.
+  bool integer(Type t, std::int64_t& out) {
+    std::uint64_t u;
+    if (!raw(t, u)) return false;
+    switch (t) {
+      case Type::i8: out = static_cast<std::int8_t>(u); break;
+      case Type::i16: out = static_cast<std::int16_t>(u); break;
+      case Type::i32: out = static_cast<std::int32_t>(u); break;
+      case Type::f32: out = std::llround(std::clamp<double>(std::bit_cast<float>(static_cast<std::uint32_t>(u)), -1e18, 1e18)); break;
+      case Type::f64: out = std::llround(std::clamp(std::bit_cast<double>(u), -1e18, 1e18)); break;
+      default: out = static_cast<std::int64_t>(u); break;
+    }
+    return true;
+  }
+  bool number(Type t, double& out) {
+    std::uint64_t u;
+    if (!raw(t, u)) return false;
+    switch (t) {
+      case Type::f32: out = std::bit_cast<float>(static_cast<std::uint32_t>(u)); break;
+      case Type::f64: out = std::bit_cast<double>(u); break;
+      case Type::i8: out = static_cast<std::int8_t>(u); break;
+      case Type::i16: out = static_cast<std::int16_t>(u); break;
+      case Type::i32: out = static_cast<std::int32_t>(u); break;
+      default: out = static_cast<double>(u); break;
+    }
+    return true;
+  }
+
+ private:
+  bool raw(Type t, std::uint64_t& u) {
+    const std::size_t n = size_of(t);
+    if (left() < n) return false;
+    unsigned char b[8];
+    std::memcpy(b, bytes_.data() + at_, n);
+    at_ += n;
+    u = 0;
+    for (std::size_t i = 0; i < n; ++i) u |= std::uint64_t{b[big_endian_ ? n - 1 - i : i]} << (8 * i);
+    return true;
+  }
+  std::string_view bytes_;
+  std::size_t at_ = 0;
+  bool big_endian_;
+};
+
+/// Ascii values: words separated by white space.
+class AsciiBody {
+ public:
+  AsciiBody(const std::string& path, std::string_view bytes) : path_(path), bytes_(bytes) {}
+  std::size_t left() const { return bytes_.size() - at_; }
+  bool integer(Type t, std::int64_t& out) {
+    const std::string_view w = word();
+    if (w.empty()) return false;
+    if (is_float(t)) {
+      double x;
+      parse_decimal(w, x);
+      out = std::llround(std::clamp(x, -1e18, 1e18));
+    } else {
+      parse_integer(w, out);
+    }
+    return true;
+  }
+  bool number(Type t, double& out) {
+    const std::string_view w = word();
+    if (w.empty()) return false;
+    if (t == Type::f32) {
+      float f;
+      parse_decimal(w, f);
+      out = f;
+    } else if (t == Type::f64) {
+      parse_decimal(w, out);
+    } else {
+      std::int64_t i;
+      parse_integer(w, i);
+      out = static_cast<double>(i);
+    }
+    return true;
+  }
+  /// Where the values being read are, for messages: element `element`'s item `index`.
+  const std::string* element = nullptr;
+  std::uint64_t index = 0;
+
+ private:
+  std::string_view word() {
+    while (at_ < bytes_.size() && is_space(bytes_[at_])) ++at_;
+    const std::size_t start = at_;
+    while (at_ < bytes_.size() && !is_space(bytes_[at_])) ++at_;
+    return bytes_.substr(start, at_ - start);
+  }
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+  /// An optional sign and digits; beyond 64 bits, the nearest 64-bit value.
+  void parse_integer(std::string_view w, std::int64_t& out) {
+    const std::string_view digits = w[0] == '+' ? w.substr(1) : w;
+    const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), out);
+    if (digits.empty() || r.ptr != digits.data() + digits.size()) bad(w);
+    if (r.ec == std::errc::result_out_of_range)
+      out = digits[0] == '-' ? std::numeric_limits<std::int64_t>::min() : std::numeric_limits<std::int64_t>::max();
+    else if (r.ec != std::errc())
+      bad(w);
+  }
+  /// A plain decimal (no nan, inf or hexadecimal): digits, sign, point, exponent. Values beyond
+  /// the type's range are refused; those below its normal range are rounded (to a subnormal or
+  /// zero).
+  template <class T>
+  void parse_decimal(std::string_view w, T& out) {
+    const std::string_view text = w[0] == '+' ? w.substr(1) : w;
+    if (text.empty() || text.find_first_not_of("0123456789+-.eE") != std::string_view::npos) bad(w);
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), out);
+    if (r.ptr != text.data() + text.size()) bad(w);
+    if (r.ec == std::errc::result_out_of_range) {
+      // Too large for the type: refused; too small for its normal range: a subnormal or zero.
+      long double v = 0;
+      std::from_chars(text.data(), text.data() + text.size(), v);
+      if (std::abs(v) > 1) bad(w);
+      out = static_cast<T>(v);
+    } else if (r.ec != std::errc()) {
+      bad(w);
+    }
+  }
+  [[noreturn]] void bad(std::string_view w) {
+    fail(path_, "PLY " + (element != nullptr ? *element : std::string("body")) + " " + std::to_string(index) + ": '" +
+                    std::string(w.substr(0, 40)) + "' is not a valid number");
+  }
+  const std::string& path_;
+  std::string_view bytes_;
+  std::size_t at_ = 0;
+};
+
+/// Reads every element of the body into `mesh`.
+template <class Body>
+void read_body(const std::string& path, Header& h, Body& body, PolygonMesh& mesh) {
+  const auto ended = [&](const Element& e, std::uint64_t item) {
+    fail(path, "PLY file ends inside " + e.name + " " + std::to_string(item) + " (of " + std::to_string(e.count) + ")");
+  };
+  for (Element& e : h.elements) {
+    // The bytes an item takes at least: its scalars' and list counts' (binary), or one (ascii).
+    std::size_t least = 0;
+    for (const Property& p : e.properties) least += size_of(p.count_type.value_or(p.type));
+    if constexpr (std::is_same_v<Body, AsciiBody>) least = e.properties.size();  // a value takes a byte at least
+    if (least > 0 && e.count > body.left() / least)
+      fail(path, "PLY header claims " + std::to_string(e.count) + " " + e.name + " elements, more than the " +
+                     std::to_string(body.left()) + " bytes left hold");
+    const bool vertices = e.name == "vertex", faces = e.name == "face";
+    if (vertices) mesh.positions.reserve(mesh.positions.size() + 3 * e.count);
+    if (faces) {
+      mesh.face_offsets.reserve(mesh.face_offsets.size() + e.count);
+      mesh.face_indices.reserve(mesh.face_indices.size() + 3 * e.count);
+    }
+    for (std::uint64_t item = 0; item < e.count; ++item) {
+      if constexpr (std::is_same_v<Body, AsciiBody>) body.element = &e.name, body.index = item;
+      double xyz[3] = {0, 0, 0};
+      for (const Property& p : e.properties) {
+        if (!p.count_type) {
+          double value;
+          if (!body.number(p.type, value)) ended(e, item);
+          if (p.role == Role::x || p.role == Role::y || p.role == Role::z) xyz[static_cast<int>(p.role) - 1] = value;
+          continue;
+        }
+        std::int64_t count;
+        if (!body.integer(*p.count_type, count)) ended(e, item);
+        if (count < 0 || static_cast<std::uint64_t>(count) > body.left())
+          fail(path, "PLY " + e.name + " " + std::to_string(item) + ": a list claims " + std::to_string(count) +
+                         " entries, more than the " + std::to_string(body.left()) + " bytes left in the file");
+        if (p.role == Role::corners && count == 0) fail(path, "face " + std::to_string(mesh.face_count()) + " has no corners");
+        for (std::int64_t k = 0; k < count; ++k) {
+          std::int64_t value;
+          if (!body.integer(p.type, value)) ended(e, item);
+          if (p.role == Role::corners)
+            mesh.face_indices.push_back(value < 0 || value >= std::int64_t{kNone} ? kNone : static_cast<std::uint32_t>(value));
+        }
+        if (p.role == Role::corners) mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
+      }
+      if (vertices) mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
+    }
+  }
+}
+
+}  // namespace
+
+PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
+  Header h = parse_header(path, bytes);
+  bool has_x = false, has_y = false, has_z = false;
+  for (Element& e : h.elements) {
+    bool corners = false;
+    for (Property& p : e.properties) {
+      if (e.name == "vertex" && !p.count_type && (p.name == "x" || p.name == "y" || p.name == "z")) {
+        p.role = p.name == "x" ? Role::x : p.name == "y" ? Role::y : Role::z;
+        (p.name == "x" ? has_x : p.name == "y" ? has_y : has_z) = true;
+      }
+      if (e.name == "face" && p.count_type && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+        if (is_float(p.type)) fail(path, "PLY face corners ('" + p.name + "') must be of an integer type");
+        p.role = Role::corners;
+        corners = true;
+      }
+    }
+    if (e.name == "face" && e.count > 0 && !corners)
+      fail(path, "PLY face element has no 'vertex_indices' list");
+  }
+  const bool any_vertex = std::any_of(h.elements.begin(), h.elements.end(), [](const Element& e) { return e.name == "vertex"; });
+  if (any_vertex && !(has_x && has_y && has_z)) fail(path, "PLY vertex element lacks an x, y or z property");
+  PolygonMesh mesh;
+  if (h.ascii) {
+    AsciiBody body(path, bytes.substr(h.body));
+    read_body(path, h, body, mesh);
+  } else {
+    BinaryBody body(bytes.substr(h.body), h.big_endian);
+    read_body(path, h, body, mesh);
+  }
+  return mesh;
+}
+
+}  // namespace meshlift
