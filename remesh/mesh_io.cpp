@@ -1,5 +1,6 @@
 #include "meshlift/mesh_io.h"
 
+#include "obj_reader.h"
 #include "off_reader.h"
 #include "ply_reader.h"
 
@@ -221,53 +222,11 @@ std::string random_suffix() {
 }
 
 
-// ---- Pre-scan for OpenMesh's OBJ reader ----
-// (OFF and PLY have readers of their own, off_reader.cpp and ply_reader.cpp: OpenMesh's trusted
-// every count in their headers and lists; docs/HARDENING.md.)
-
-/// OBJ: vertex lines must hold three numbers. The reader is line-based and bounded, but the
-/// Debian build of OpenMesh keeps its
-/// assertions, and a face corner carrying a texture or normal index before any vertex index on
-/// its line ("f /4 2 3") fails assert(!vhandles.empty()) and aborts the process.
-std::string obj_corner_problem(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string word;
-    if (!(words >> word)) continue;
-    if (word == "v") {
-      // The reader parses floats with operator>>, which stops at "nan", "inf" or any other text
-      // and then reads garbage: name the line instead.
-      float x, y, z;
-      if (!(words >> x >> y >> z))
-        return "OBJ line " + std::to_string(number) + ": a vertex coordinate is missing or not a finite number";
-      continue;
-    }
-    if (word != "f") continue;
-    bool has_vertex = false;
-    while (words >> word) {
-      const std::size_t slash = word.find('/');
-      const std::string vertex = word.substr(0, slash);
-      int value = 0;
-      if (!vertex.empty() && (slash != std::string::npos || (std::istringstream(vertex) >> value))) has_vertex = true;
-      if (slash != std::string::npos && !has_vertex && word.find_first_not_of('/', slash) != std::string::npos)
-        return "OBJ line " + std::to_string(number) + " has a face corner without a vertex index";
-    }
-  }
-  return "";
-}
-
-std::string unbounded_count_problem(const std::string& path, const std::string& ext) {
-  if (ext == "obj") return obj_corner_problem(path);
-  return "";  // the STL reader checks binary sizes against the file
-}
-
-/// OBJ and STL through OpenMesh's readers, after the pre-scan above.
+/// STL through OpenMesh's reader (OFF, PLY and OBJ have readers of their own, off_reader.cpp,
+/// ply_reader.cpp and obj_reader.cpp: OpenMesh's trusted every count in their headers and lists,
+/// or aborted on a corner without a vertex index; docs/HARDENING.md). Its binary sizes are
+/// checked against the file.
 PolygonMesh read_with_openmesh(const std::string& path, const std::string& ext, std::uintmax_t size) {
-  const std::string unsafe = unbounded_count_problem(path, ext);
-  if (!unsafe.empty()) fail(path, unsafe);
-
   FlatImporter importer(size);
   OpenMesh::IO::Options options;  // Default: ask for no attributes.
   bool ok = false;
@@ -314,6 +273,7 @@ PolygonMesh read_mesh(const std::string& path) {
 
   PolygonMesh mesh = ext == "off"   ? read_off(path, contents_of(path, size))
                      : ext == "ply" ? read_ply(path, contents_of(path, size))
+                     : ext == "obj" ? read_obj(path, contents_of(path, size))
                                     : read_with_openmesh(path, ext, size);
   if (mesh.vertex_count() == 0) fail(path, "file has no vertices");
   const std::size_t vertex_count = mesh.vertex_count();
