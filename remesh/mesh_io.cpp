@@ -3,10 +3,7 @@
 #include "obj_reader.h"
 #include "off_reader.h"
 #include "ply_reader.h"
-
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include "stl_reader.h"
 
 #include <algorithm>
 #include <array>
@@ -31,17 +28,6 @@ namespace meshlift {
 namespace {
 
 namespace fs = std::filesystem;
-using OpenMesh::EdgeHandle;
-using OpenMesh::FaceHandle;
-using OpenMesh::HalfedgeHandle;
-using OpenMesh::VertexHandle;
-using OpenMesh::Vec2f;
-using OpenMesh::Vec3d;
-using OpenMesh::Vec3f;
-using OpenMesh::Vec3uc;
-using OpenMesh::Vec4f;
-using OpenMesh::Vec4uc;
-using StatusInfo = OpenMesh::Attributes::StatusInfo;
 
 /// Lower-case extension without the dot ("" if none).
 std::string extension_of(const std::string& path) {
@@ -54,158 +40,6 @@ std::string extension_of(const std::string& path) {
 bool is_supported_extension(const std::string& ext) {
   return ext == "obj" || ext == "off" || ext == "ply" || ext == "stl";
 }
-
-/// Redirects std::cout, std::clog and std::cerr (OpenMesh's omout/omlog/omerr targets, and the
-/// readers' direct std::cerr prints) into a buffer for its lifetime, so a library call never
-/// writes chatter into a CLI's stdout (e.g. `info --json`) and reader complaints can be quoted.
-class OpenMeshChatterCapture {
- public:
-  OpenMeshChatterCapture()
-      : cout_(std::cout.rdbuf(&buffer_)), clog_(std::clog.rdbuf(&buffer_)), cerr_(std::cerr.rdbuf(&buffer_)) {}
-  ~OpenMeshChatterCapture() {
-    flush_openmesh_streams();
-    std::cout.rdbuf(cout_);
-    std::clog.rdbuf(clog_);
-    std::cerr.rdbuf(cerr_);
-  }
-  OpenMeshChatterCapture(const OpenMeshChatterCapture&) = delete;
-  OpenMeshChatterCapture& operator=(const OpenMeshChatterCapture&) = delete;
-
-  /// The last non-empty captured line that looks like a complaint, trimmed; "" if none.
-  std::string complaint() {
-    flush_openmesh_streams();
-    std::istringstream lines(buffer_.text);
-    std::string line, found;
-    while (std::getline(lines, line)) {
-      while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-      const bool chatter = line.find("read ascii") != std::string::npos ||
-                           line.find("read binary") != std::string::npos ||
-                           line.find("write ") != std::string::npos;
-      if (!line.empty() && !chatter) found = line;
-    }
-    if (found.size() > 200) found = found.substr(0, 200) + "...";
-    return found;
-  }
-
- private:
-  static void flush_openmesh_streams() {
-    omout().flush();
-    omlog().flush();
-    omerr().flush();
-  }
-
-  /// Keeps the first 64 KiB written and discards the rest (a reader stuck printing must not
-  /// also exhaust memory).
-  struct BoundedBuffer : std::streambuf {
-    std::string text;
-    int_type overflow(int_type c) override {
-      if (c != traits_type::eof() && text.size() < 65536) text.push_back(static_cast<char>(c));
-      return traits_type::not_eof(c);
-    }
-    std::streamsize xsputn(const char* s, std::streamsize n) override {
-      text.append(s, static_cast<std::size_t>(std::min<std::streamsize>(n, std::streamsize(65536 - std::min<std::size_t>(text.size(), 65536)))));
-      return n;
-    }
-  };
-
-  BoundedBuffer buffer_;
-  std::streambuf* cout_;
-  std::streambuf* clog_;
-  std::streambuf* cerr_;
-};
-
-/// Thrown from inside an OpenMesh reader's callbacks to stop it; read_mesh turns it into MeshIOError.
-struct ReadAborted {
-  std::string message;
-};
-
-/// Records the reader's vertices and faces verbatim into a PolygonMesh. Unlike OpenMesh's
-/// ImporterT it builds no half-edge structure, so it never rejects, splits or duplicates a
-/// non-manifold face. Every other attribute (normals, colours, texture coordinates) is ignored.
-///
-/// Readers trust counts from file headers (a PLY saying 4e9 vertices loops 4e9 times even after
-/// the stream has failed), so element counts are capped by the file size: every format spends
-/// at least one byte per vertex and per face.
-class FlatImporter : public OpenMesh::IO::BaseImporter {
- public:
-  explicit FlatImporter(std::uintmax_t max_elements) : max_elements_(max_elements) {}
-
-  PolygonMesh mesh;
-
-  VertexHandle add_vertex(const Vec3f& p) override { return add_vertex(Vec3d(p[0], p[1], p[2])); }
-  VertexHandle add_vertex(const Vec3d& p) override {
-    if (mesh.vertex_count() >= max_elements_)
-      throw ReadAborted{"contents claim more vertices than the file has bytes"};
-    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
-    return VertexHandle(static_cast<int>(mesh.vertex_count() - 1));
-  }
-  VertexHandle add_vertex() override { return add_vertex(Vec3d(0.0, 0.0, 0.0)); }
-  void set_point(VertexHandle vh, const Vec3f& p) override {
-    if (!vh.is_valid() || static_cast<std::size_t>(vh.idx()) >= mesh.vertex_count())
-      throw ReadAborted{"reader set the position of a vertex that does not exist"};
-    for (int k = 0; k < 3; ++k) mesh.positions[3 * static_cast<std::size_t>(vh.idx()) + k] = p[k];
-  }
-
-  FaceHandle add_face(const VHandles& corners) override {
-    const std::size_t f = mesh.face_count();
-    if (f >= max_elements_) throw ReadAborted{"contents claim more faces than the file has bytes"};
-    if (corners.empty()) throw ReadAborted{"face " + std::to_string(f) + " has no corners"};
-    if (corners.size() > max_elements_ - mesh.face_indices.size())
-      throw ReadAborted{"contents claim more face corners than the file has bytes"};
-    for (const VertexHandle vh : corners) {
-      // Range is checked once reading ends (OBJ may, in principle, list vertices after faces);
-      // negative handles (OBJ index 0, unparsable numbers) become out-of-range indices.
-      mesh.face_indices.push_back(vh.idx() < 0 ? kNone : static_cast<std::uint32_t>(vh.idx()));
-    }
-    mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
-    return FaceHandle(static_cast<int>(f));
-  }
-
-  size_t n_vertices() const override { return mesh.vertex_count(); }
-  size_t n_faces() const override { return mesh.face_count(); }
-  size_t n_edges() const override { return 0; }
-
-  // Half-edge construction and attributes: not recorded.
-  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
-  FaceHandle add_face(HalfedgeHandle) override { throw ReadAborted{"reader needs half-edge import (unsupported)"}; }
-  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
-  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
-  void set_face_texindex(FaceHandle, int) override {}
-  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
-  void set_normal(VertexHandle, const Vec3f&) override {}
-  void set_normal(VertexHandle, const Vec3d&) override {}
-  void set_color(VertexHandle, const Vec3uc&) override {}
-  void set_color(VertexHandle, const Vec4uc&) override {}
-  void set_color(VertexHandle, const Vec3f&) override {}
-  void set_color(VertexHandle, const Vec4f&) override {}
-  void set_texcoord(VertexHandle, const Vec2f&) override {}
-  void set_status(VertexHandle, const StatusInfo&) override {}
-  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
-  void set_face(HalfedgeHandle, FaceHandle) override {}
-  void request_face_texcoords2D() override {}
-  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
-  void set_texcoord(VertexHandle, const Vec3f&) override {}
-  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
-  void set_status(HalfedgeHandle, const StatusInfo&) override {}
-  void set_color(EdgeHandle, const Vec3uc&) override {}
-  void set_color(EdgeHandle, const Vec4uc&) override {}
-  void set_color(EdgeHandle, const Vec3f&) override {}
-  void set_color(EdgeHandle, const Vec4f&) override {}
-  void set_status(EdgeHandle, const StatusInfo&) override {}
-  void set_normal(FaceHandle, const Vec3f&) override {}
-  void set_normal(FaceHandle, const Vec3d&) override {}
-  void set_color(FaceHandle, const Vec3uc&) override {}
-  void set_color(FaceHandle, const Vec4uc&) override {}
-  void set_color(FaceHandle, const Vec3f&) override {}
-  void set_color(FaceHandle, const Vec4f&) override {}
-  void set_status(FaceHandle, const StatusInfo&) override {}
-  void add_texture_information(int, std::string) override {}
-  // Header counts are untrusted: no reservation from them.
-  void reserve(unsigned int, unsigned int, unsigned int) override {}
-
- private:
-  std::uintmax_t max_elements_;
-};
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
   throw MeshIOError(path + ": " + problem);
@@ -221,32 +55,6 @@ std::string random_suffix() {
   return out.str();
 }
 
-
-/// STL through OpenMesh's reader (OFF, PLY and OBJ have readers of their own, off_reader.cpp,
-/// ply_reader.cpp and obj_reader.cpp: OpenMesh's trusted every count in their headers and lists,
-/// or aborted on a corner without a vertex index; docs/HARDENING.md). Its binary sizes are
-/// checked against the file.
-PolygonMesh read_with_openmesh(const std::string& path, const std::string& ext, std::uintmax_t size) {
-  FlatImporter importer(size);
-  OpenMesh::IO::Options options;  // Default: ask for no attributes.
-  bool ok = false;
-  std::string complaint;
-  {
-    OpenMeshChatterCapture capture;
-    try {
-      ok = OpenMesh::IO::IOManager().read(path, importer, options);
-    } catch (const ReadAborted& abort) {
-      fail(path, abort.message);
-    } catch (const std::exception& e) {
-      fail(path, std::string("reader failed: ") + e.what());
-    }
-    complaint = capture.complaint();
-  }
-  if (!ok)
-    fail(path, "the " + ext + " reader could not parse the file" + (complaint.empty() ? "" : " (" + complaint + ")"));
-
-  return std::move(importer.mesh);
-}
 
 /// The first `size` bytes of the file (read_off parses the whole file in memory).
 std::string contents_of(const std::string& path, std::uintmax_t size) {
@@ -274,7 +82,7 @@ PolygonMesh read_mesh(const std::string& path) {
   PolygonMesh mesh = ext == "off"   ? read_off(path, contents_of(path, size))
                      : ext == "ply" ? read_ply(path, contents_of(path, size))
                      : ext == "obj" ? read_obj(path, contents_of(path, size))
-                                    : read_with_openmesh(path, ext, size);
+                                    : read_stl(path, contents_of(path, size));
   if (mesh.vertex_count() == 0) fail(path, "file has no vertices");
   const std::size_t vertex_count = mesh.vertex_count();
   for (std::size_t f = 0; f < mesh.face_count(); ++f)

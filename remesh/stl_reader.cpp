@@ -1,0 +1,174 @@
+// STL, ascii and binary. See stl_reader.h.
+#include "stl_reader.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <system_error>
+#include <vector>
+
+namespace meshlift {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) { throw MeshIOError(path + ": " + problem); }
+
+using Point = std::array<float, 3>;
+
+/// Corners to vertices: equal points (as floats: -0 and +0 alike) are one vertex, numbered in
+/// the order of first use. A hash table over the points (open addressing, at most half full,
+/// grown as it fills); a slot holds a vertex + 1 (0: empty).
+class Vertices {
+ public:
+  explicit Vertices(std::size_t expected) { grow(std::bit_ceil(std::max<std::size_t>(2 * expected, 16))); }
+  std::uint32_t of(const Point& p, PolygonMesh& mesh) {
+    if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) return add(p, mesh);  // equal to nothing
+    for (std::size_t i = hash(p) & mask_;; i = (i + 1) & mask_) {
+      if (slots_[i] == 0) {
+        const std::uint32_t v = add(p, mesh);
+        slots_[i] = v + 1;
+        if (2 * ++stored_ > slots_.size()) grow(2 * slots_.size());
+        return v;
+      }
+      const Point& q = points_[slots_[i] - 1];
+      if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2]) return slots_[i] - 1;
+    }
+  }
+
+ private:
+  static std::uint64_t hash(const Point& p) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (const float x : p) {
+      h ^= std::bit_cast<std::uint32_t>(x + 0.0f);  // -0 + 0 = +0: alike
+      h *= 0xbf58476d1ce4e5b9ULL;
+      h ^= h >> 29;
+    }
+    return h;
+  }
+  std::uint32_t add(const Point& p, PolygonMesh& mesh) {
+    points_.push_back(p);
+    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
+    return static_cast<std::uint32_t>(points_.size() - 1);
+  }
+  void grow(std::size_t capacity) {
+    slots_.assign(capacity, 0);
+    mask_ = capacity - 1;
+    for (std::uint32_t v = 0; v < points_.size(); ++v) {
+      const Point& p = points_[v];
+      if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) continue;
+      std::size_t i = hash(p) & mask_;
+      while (slots_[i] != 0) i = (i + 1) & mask_;
+      slots_[i] = v + 1;
+    }
+  }
+  std::vector<std::uint32_t> slots_;
+  std::vector<Point> points_;
+  std::size_t mask_ = 0, stored_ = 0;
+};
+
+float little_endian_float(const char* b) {
+  std::uint32_t u = 0;
+  for (int i = 0; i < 4; ++i) u |= std::uint32_t{static_cast<unsigned char>(b[i])} << (8 * i);
+  return std::bit_cast<float>(u);
+}
+
+void add_triangle(PolygonMesh& mesh, Vertices& vertices, const Point (&corners)[3]) {
+  for (const Point& p : corners) mesh.face_indices.push_back(vertices.of(p, mesh));
+  mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
+}
+
+PolygonMesh read_binary(std::string_view bytes, std::uint32_t triangles) {
+  PolygonMesh mesh;
+  mesh.face_offsets.reserve(std::size_t{triangles} + 1);
+  mesh.face_indices.reserve(3 * std::size_t{triangles});
+  Vertices vertices(triangles / 2);
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    const char* record = bytes.data() + 84 + 50 * std::size_t{t};
+    Point corners[3];
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) corners[c][k] = little_endian_float(record + 12 + 12 * c + 4 * k);
+    add_triangle(mesh, vertices, corners);
+  }
+  return mesh;
+}
+
+PolygonMesh read_ascii(const std::string& path, std::string_view text) {
+  std::size_t at = 0;
+  auto word = [&]() -> std::string_view {
+    while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+    const std::size_t start = at;
+    while (at < text.size() && !std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+    return text.substr(start, at - start);
+  };
+  // The rest of the current line (a solid's name).
+  auto skip_line = [&] {
+    while (at < text.size() && text[at] != '\n' && text[at] != '\r') ++at;
+  };
+  PolygonMesh mesh;
+  Vertices vertices(text.size() / 200);  // ~260 bytes per ascii facet: ~1.5 vertices per facet
+  word();  // "solid", checked by the caller
+  skip_line();
+  for (std::size_t facet = 0;; ++facet) {
+    const auto where = [&] { return "ascii STL facet " + std::to_string(facet); };
+    const auto expect = [&](std::string_view expected) {
+      const std::string_view w = word();
+      if (w != expected)
+        fail(path, where() + ": expected '" + std::string(expected) + "', found '" +
+                       (w.empty() ? std::string("the end of the file") : std::string(w.substr(0, 40))) + "'");
+    };
+    const std::string_view w = word();
+    if (w.empty() || w == "endsolid") break;
+    if (w != "facet") fail(path, where() + ": expected 'facet' or 'endsolid', found '" + std::string(w.substr(0, 40)) + "'");
+    expect("normal");
+    for (int k = 0; k < 3; ++k) word();  // the normal: not kept
+    expect("outer");
+    expect("loop");
+    Point corners[3];
+    for (Point& p : corners) {
+      expect("vertex");
+      for (float& x : p) {
+        std::string_view number = word();
+        if (!number.empty() && number[0] == '+') number.remove_prefix(1);
+        const auto r = std::from_chars(number.data(), number.data() + number.size(), x);
+        bool ok = !number.empty() && r.ptr == number.data() + number.size() &&
+                  number.find_first_not_of("0123456789+-.eE") == std::string_view::npos;
+        if (ok && r.ec == std::errc::result_out_of_range) {
+          long double v = 0;
+          std::from_chars(number.data(), number.data() + number.size(), v);
+          ok = std::abs(v) <= 1;  // below the float range: a subnormal or zero; above: refused
+          x = static_cast<float>(v);
+        } else {
+          ok = ok && r.ec == std::errc();
+        }
+        if (!ok) fail(path, where() + ": '" + std::string(number.substr(0, 40)) + "' is not a finite coordinate");
+      }
+    }
+    expect("endloop");
+    expect("endfacet");
+    add_triangle(mesh, vertices, corners);
+  }
+  return mesh;
+}
+
+}  // namespace
+
+PolygonMesh read_stl(const std::string& path, std::string_view bytes) {
+  if (bytes.size() >= 84) {
+    std::uint32_t triangles = 0;
+    for (int i = 0; i < 4; ++i) triangles |= std::uint32_t{static_cast<unsigned char>(bytes[80 + i])} << (8 * i);
+    if (84 + 50 * std::uint64_t{triangles} == bytes.size()) return read_binary(bytes, triangles);
+    if (bytes.substr(0, 5) != "solid")
+      fail(path, "binary STL claims " + std::to_string(triangles) + " triangles: " +
+                     std::to_string(84 + 50 * std::uint64_t{triangles}) + " bytes, but the file has " +
+                     std::to_string(bytes.size()));
+  } else if (bytes.substr(0, 5) != "solid") {
+    fail(path, "not an STL file: " + std::to_string(bytes.size()) +
+                   " bytes, shorter than a binary header, and no 'solid' at the start");
+  }
+  return read_ascii(path, bytes);
+}
+
+}  // namespace meshlift
