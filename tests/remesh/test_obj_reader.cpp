@@ -4,61 +4,19 @@
 // reads it.
 #include <catch2/catch.hpp>
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
-#include <unistd.h>
-
-#include <algorithm>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "meshlift/mesh_io.h"
 #include "test_meshes.h"
+#include "test_reader_files.h"
 
-namespace fs = std::filesystem;
 using namespace meshlift;
 
-namespace {
-
-struct Scratch {
-  fs::path directory;
-  explicit Scratch(const std::string& name)
-      : directory(fs::temp_directory_path() / ("meshlift_obj_" + name + "_" + std::to_string(::getpid()))) {
-    fs::create_directories(directory);
-  }
-  ~Scratch() {
-    std::error_code ignored;
-    fs::remove_all(directory, ignored);
-  }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (directory / name).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
-};
-
-/// The message read_mesh throws for `text` saved as an .obj file, without the "path: " prefix;
-/// "no error" if it reads.
-std::string error_for(const Scratch& scratch, const std::string& text) {
-  const std::string path = scratch.write("bad.obj", text);
-  try {
-    read_mesh(path);
-  } catch (const MeshIOError& e) {
-    const std::string message = e.what();
-    REQUIRE(message.rfind(path + ": ", 0) == 0);
-    return message.substr(path.size() + 2);
-  }
-  return "no error";
-}
-
-}  // namespace
-
 TEST_CASE("OBJ reader: vertices and faces kept, every other statement skipped", "[obj]") {
-  Scratch scratch("grammar");
+  test::Scratch scratch("grammar");
   // A BOM, CRLF and lone-CR line ends, comments, w and colours after coordinates, texture and
   // normal statements, groups and materials, lines and points, all four corner forms, relative
   // and signed indices, and faces before the vertices they name.
@@ -80,26 +38,26 @@ TEST_CASE("OBJ reader: vertices and faces kept, every other statement skipped", 
 }
 
 TEST_CASE("OBJ reader: errors name the line", "[obj]") {
-  Scratch scratch("errors");
+  test::Scratch scratch("errors");
   const std::string three = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-  CHECK(error_for(scratch, "v 0 0\n") == "OBJ line 1: a vertex coordinate is missing or not a finite number");
-  CHECK_THAT(error_for(scratch, three + "v 1 nan 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
-  CHECK_THAT(error_for(scratch, three + "v 1 inf 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
-  CHECK_THAT(error_for(scratch, three + "v 1 1e39 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
-  CHECK_THAT(error_for(scratch, three + "v 1 0x10 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
-  CHECK(error_for(scratch, three + "f /1 2 3\n") == "OBJ line 4 has a face corner without a vertex index");
-  CHECK_THAT(error_for(scratch, three + "f 1 x 3\n"), Catch::Contains("OBJ line 4: face corner 'x' has no integer vertex index"));
-  CHECK_THAT(error_for(scratch, three + "f 1 2.5 3\n"), Catch::Contains("'2.5' has no integer vertex index"));
-  CHECK(error_for(scratch, three + "f\n") == "face 0 has no corners");
-  CHECK_THAT(error_for(scratch, three + "f 1 2 0\n"), Catch::Contains("face 0 references vertex"));
-  CHECK_THAT(error_for(scratch, three + "f 1 2 4\n"), Catch::Contains("face 0 references vertex 3 but the file has 3"));
-  CHECK_THAT(error_for(scratch, three + "f 1 2 -4\n"), Catch::Contains("face 0 references vertex"));
-  CHECK_THAT(error_for(scratch, three + "f 1 2 99999999999999999999999\n"), Catch::Contains("face 0 references vertex"));
-  CHECK_THAT(error_for(scratch, "# no vertex\nf 1 2 3\n"), Catch::Contains("no vertices"));
+  CHECK(read_error(scratch, "obj", "v 0 0\n") == "OBJ line 1: a vertex coordinate is missing or not a finite number");
+  CHECK_THAT(read_error(scratch, "obj", three + "v 1 nan 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK_THAT(read_error(scratch, "obj", three + "v 1 inf 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK_THAT(read_error(scratch, "obj", three + "v 1 1e39 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK_THAT(read_error(scratch, "obj", three + "v 1 0x10 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK(read_error(scratch, "obj", three + "f /1 2 3\n") == "OBJ line 4 has a face corner without a vertex index");
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 x 3\n"), Catch::Contains("OBJ line 4: face corner 'x' has no integer vertex index"));
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 2.5 3\n"), Catch::Contains("'2.5' has no integer vertex index"));
+  CHECK(read_error(scratch, "obj", three + "f\n") == "face 0 has no corners");
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 2 0\n"), Catch::Contains("face 0 references vertex"));
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 2 4\n"), Catch::Contains("face 0 references vertex 3 but the file has 3"));
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 2 -4\n"), Catch::Contains("face 0 references vertex"));
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 2 99999999999999999999999\n"), Catch::Contains("face 0 references vertex"));
+  CHECK_THAT(read_error(scratch, "obj", "# no vertex\nf 1 2 3\n"), Catch::Contains("no vertices"));
 }
 
 TEST_CASE("OBJ reader: every truncation of a file is refused or reads what it holds", "[obj]") {
-  Scratch scratch("truncation");
+  test::Scratch scratch("truncation");
   const std::string whole = "v 0.5 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1/1/1 3/1/1 2/1/1\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
   for (std::size_t n = 0; n <= whole.size(); ++n) {
     INFO(n);
@@ -114,7 +72,7 @@ TEST_CASE("OBJ reader: every truncation of a file is refused or reads what it ho
 
 TEST_CASE("OBJ reader: a file with texture and normal indices reads as OpenMesh's OBJ reader reads it", "[obj]") {
   // A torus of quads and triangles, its corners in all the forms, against OpenMesh's reader.
-  Scratch scratch("oracle");
+  test::Scratch scratch("oracle");
   const TriangleMesh torus = test::torus(12, 9);
   std::string text = "# torus\nvt 0 0\nvn 0 0 1\n";
   char line[128];
@@ -134,24 +92,5 @@ TEST_CASE("OBJ reader: a file with texture and normal indices reads as OpenMesh'
     text += "\n";
   }
   const std::string path = scratch.write("torus.obj", text);
-  const PolygonMesh ours = read_mesh(path);
-  using Mesh = OpenMesh::PolyMesh_ArrayKernelT<>;
-  Mesh theirs;
-  REQUIRE(OpenMesh::IO::read_mesh(theirs, path));
-  REQUIRE(ours.vertex_count() == theirs.n_vertices());
-  REQUIRE(ours.face_count() == theirs.n_faces());
-  for (const auto v : theirs.vertices())
-    for (int k = 0; k < 3; ++k)
-      REQUIRE(ours.positions[3 * static_cast<std::size_t>(v.idx()) + k] == static_cast<double>(theirs.point(v)[k]));
-  auto from_smallest = [](std::vector<std::uint32_t> corners) {
-    std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
-    return corners;
-  };
-  for (const auto f : theirs.faces()) {
-    std::vector<std::uint32_t> corners;
-    for (const auto v : theirs.fv_range(f)) corners.push_back(static_cast<std::uint32_t>(v.idx()));
-    const std::size_t i = static_cast<std::size_t>(f.idx());
-    REQUIRE(from_smallest({ours.face_indices.begin() + ours.face_offsets[i],
-                           ours.face_indices.begin() + ours.face_offsets[i + 1]}) == from_smallest(corners));
-  }
+  test::require_as_openmesh_reads(read_mesh(path), path);
 }

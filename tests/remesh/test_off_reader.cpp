@@ -24,47 +24,22 @@
 
 #include "meshlift/mesh_io.h"
 #include "test_meshes.h"
+#include "test_reader_files.h"
 
 namespace fs = std::filesystem;
 using namespace meshlift;
 
 namespace {
 
-/// A directory of scratch files for one test case, removed afterwards.
-struct Scratch {
-  fs::path directory;
-  explicit Scratch(const std::string& name)
-      : directory(fs::temp_directory_path() / ("meshlift_off_" + name + "_" + std::to_string(::getpid()))) {
-    fs::create_directories(directory);
-  }
-  ~Scratch() {
-    std::error_code ignored;
-    fs::remove_all(directory, ignored);
-  }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (directory / name).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
-};
+using test::Scratch;
 
 /// read_mesh on `text` saved as an .off file.
 PolygonMesh read_text(const Scratch& scratch, const std::string& text) {
   return read_mesh(scratch.write("mesh.off", text));
 }
 
-/// The message read_mesh throws for `text`, without the "path: " prefix; "no error" if it reads.
-std::string error_for(const Scratch& scratch, const std::string& text) {
-  const std::string path = scratch.write("bad.off", text);
-  try {
-    read_mesh(path);
-  } catch (const MeshIOError& e) {
-    const std::string message = e.what();
-    REQUIRE(message.rfind(path + ": ", 0) == 0);
-    return message.substr(path.size() + 2);
-  }
-  return "no error";
-}
+/// The message read_mesh throws for `text` saved as an .off file (test::read_error).
+std::string error_for(const Scratch& scratch, const std::string& text) { return test::read_error(scratch, "off", text); }
 
 /// The tetrahedron every variant below spells in its own way.
 const std::vector<double> kTetPositions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};

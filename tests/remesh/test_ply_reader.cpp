@@ -5,58 +5,22 @@
 // (but for doubles, which it rounds to floats).
 #include <catch2/catch.hpp>
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
-#include <unistd.h>
-
-#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "meshlift/mesh_io.h"
 #include "test_meshes.h"
+#include "test_reader_files.h"
 
 namespace fs = std::filesystem;
 using namespace meshlift;
 
 namespace {
-
-struct Scratch {
-  fs::path directory;
-  explicit Scratch(const std::string& name)
-      : directory(fs::temp_directory_path() / ("meshlift_ply_" + name + "_" + std::to_string(::getpid()))) {
-    fs::create_directories(directory);
-  }
-  ~Scratch() {
-    std::error_code ignored;
-    fs::remove_all(directory, ignored);
-  }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (directory / name).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
-};
-
-/// The message read_mesh throws for `bytes` saved as a .ply file, without the "path: " prefix;
-/// "no error" if it reads.
-std::string error_for(const Scratch& scratch, const std::string& bytes) {
-  const std::string path = scratch.write("bad.ply", bytes);
-  try {
-    read_mesh(path);
-  } catch (const MeshIOError& e) {
-    const std::string message = e.what();
-    REQUIRE(message.rfind(path + ": ", 0) == 0);
-    return message.substr(path.size() + 2);
-  }
-  return "no error";
-}
 
 /// Appends x as `bytes` bytes in the given order.
 template <class T>
@@ -124,7 +88,7 @@ std::string tetrahedron(const std::string& format) {
 }  // namespace
 
 TEST_CASE("PLY reader: ascii, little- and big-endian binary read alike, extras read past, doubles kept", "[ply]") {
-  Scratch scratch("formats");
+  test::Scratch scratch("formats");
   for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
     INFO(format);
     const PolygonMesh m = read_mesh(scratch.write("tet.ply", tetrahedron(format)));
@@ -135,7 +99,7 @@ TEST_CASE("PLY reader: ascii, little- and big-endian binary read alike, extras r
 }
 
 TEST_CASE("PLY reader: integer coordinates, negative and huge corner indices", "[ply]") {
-  Scratch scratch("integers");
+  test::Scratch scratch("integers");
   const std::string header =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty short x\nproperty int y\nproperty uchar z\n"
       "element face 1\nproperty list int int vertex_index\nend_header\n";
@@ -143,44 +107,41 @@ TEST_CASE("PLY reader: integer coordinates, negative and huge corner indices", "
   CHECK(m.positions == std::vector<double>{-3, 70000, 255, 0, 0, 0, 1, 1, 1});
   CHECK(m.face_indices == std::vector<std::uint32_t>{0, 1, 2});
   // A negative or out-of-range corner is read_mesh's to report, by face.
-  CHECK_THAT(error_for(scratch, header + "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n"), Catch::Contains("face 0 references vertex"));
-  CHECK_THAT(error_for(scratch, header + "0 0 0\n1 0 0\n0 1 0\n3 0 99999999999 2\n"), Catch::Contains("face 0 references vertex"));
+  CHECK_THAT(read_error(scratch, "ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n"), Catch::Contains("face 0 references vertex"));
+  CHECK_THAT(read_error(scratch, "ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 99999999999 2\n"), Catch::Contains("face 0 references vertex"));
 }
 
 TEST_CASE("PLY reader: errors name the problem", "[ply]") {
-  Scratch scratch("errors");
+  test::Scratch scratch("errors");
   const std::string vertex3 = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
   const std::string face1 = "element face 1\nproperty list uchar int vertex_indices\n";
   const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   const std::string ascii = "ply\nformat ascii 1.0\n";
-  CHECK_THAT(error_for(scratch, "PLY\n"), Catch::Contains("not a PLY file"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3), Catch::Contains("no end_header"));
-  CHECK_THAT(error_for(scratch, "ply\n" + vertex3 + "end_header\n"), Catch::Contains("no format line"));
-  CHECK_THAT(error_for(scratch, "ply\nformat ascii 2.0\n"), Catch::Contains("malformed PLY header line"));
-  CHECK_THAT(error_for(scratch, ascii + "element vertex 3.0\n"), Catch::Contains("no valid count"));
-  CHECK_THAT(error_for(scratch, ascii + "element vertex 99999999999999999999999\nend_header\n"), Catch::Contains("claims"));
-  CHECK_THAT(error_for(scratch, ascii + "property float x\n"), Catch::Contains("property before any element"));
-  CHECK_THAT(error_for(scratch, ascii + "element vertex 1\nproperty quad x\n"), Catch::Contains("unknown type"));
-  CHECK_THAT(error_for(scratch, ascii + "element face 1\nproperty list float int vertex_indices\n"),
+  CHECK_THAT(read_error(scratch, "ply", "PLY\n"), Catch::Contains("not a PLY file"));
+  CHECK_THAT(read_error(scratch, "ply", ascii + vertex3), Catch::Contains("no end_header"));
+  CHECK_THAT(read_error(scratch, "ply", "ply\n" + vertex3 + "end_header\n"), Catch::Contains("no format line"));
+  CHECK_THAT(read_error(scratch, "ply", "ply\nformat ascii 2.0\n"), Catch::Contains("malformed PLY header line"));
+  CHECK_THAT(read_error(scratch, "ply", ascii + "element vertex 3.0\n"), Catch::Contains("no valid count"));
+  CHECK_THAT(read_error(scratch, "ply", ascii + "element vertex 99999999999999999999999\nend_header\n"), Catch::Contains("claims"));
+  CHECK_THAT(read_error(scratch, "ply", ascii + "property float x\n"), Catch::Contains("property before any element"));
+  CHECK_THAT(read_error(scratch, "ply", ascii + "element vertex 1\nproperty quad x\n"), Catch::Contains("unknown type"));
+  CHECK_THAT(read_error(scratch, "ply", ascii + "element face 1\nproperty list float int vertex_indices\n"),
              Catch::Contains("must be an integer type"));
-  CHECK_THAT(error_for(scratch, ascii + "element vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n"),
+  CHECK_THAT(read_error(scratch, "ply", ascii + "element vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n"),
              Catch::Contains("lacks an x, y or z"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + "element face 1\nproperty list uchar int corners\nend_header\n" + body),
+  CHECK_THAT(read_error(scratch, "ply", ascii + vertex3 + "element face 1\nproperty list uchar int corners\nend_header\n" + body),
              Catch::Contains("no 'vertex_indices' list"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
-             Catch::Contains("vertex 1: 'nan' is not a valid number"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 4-5 0\n0 1 0\n3 0 1 2\n"),
-             Catch::Contains("'4-5' is not a valid number"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n"),
-             Catch::Contains("'1e39' is not a valid number"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n"),
-             Catch::Contains("'1.5' is not a valid number"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n"),
-             Catch::Contains("claims -3 entries"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 0 0\n0 1 0\n0\n"),
-             Catch::Contains("face 0 has no corners"));
-  CHECK_THAT(error_for(scratch, ascii + vertex3 + face1 + "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n"),
-             Catch::Contains("ends inside face 0"));
+  // Bodies after the header `ascii + vertex3 + face1`, and what each is refused for.
+  const std::pair<const char*, const char*> bodies[] = {
+      {"0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "vertex 1: 'nan' is not a valid number"},
+      {"0 0 0\n1 4-5 0\n0 1 0\n3 0 1 2\n", "'4-5' is not a valid number"},
+      {"0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n", "'1e39' is not a valid number"},
+      {"0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "'1.5' is not a valid number"},
+      {"0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n", "claims -3 entries"},
+      {"0 0 0\n1 0 0\n0 1 0\n0\n", "face 0 has no corners"},
+      {"0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "ends inside face 0"}};
+  for (const auto& [bad_body, expected] : bodies)
+    CHECK_THAT(read_error(scratch, "ply", ascii + vertex3 + face1 + "end_header\n" + bad_body), Catch::Contains(expected));
   // A value below the float range is zero, as strtof makes it.
   const PolygonMesh tiny = read_mesh(scratch.write("tiny.ply", ascii + vertex3 + face1 + "end_header\n1e-50 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
   CHECK(tiny.positions[0] == 0.0);
@@ -188,11 +149,11 @@ TEST_CASE("PLY reader: errors name the problem", "[ply]") {
   std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty double x\nproperty double y\n"
                        "property double z\nend_header\n";
   binary += std::string(24 * 10, '\0');
-  CHECK_THAT(error_for(scratch, binary), Catch::Contains("claims 1000 vertex elements"));
+  CHECK_THAT(read_error(scratch, "ply", binary), Catch::Contains("claims 1000 vertex elements"));
 }
 
 TEST_CASE("PLY reader: every truncation of a file is refused or reads the whole mesh", "[ply]") {
-  Scratch scratch("truncation");
+  test::Scratch scratch("truncation");
   for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
     INFO(format);
     const std::string whole = tetrahedron(format);
@@ -211,32 +172,12 @@ TEST_CASE("PLY reader: every truncation of a file is refused or reads the whole 
 }
 
 TEST_CASE("PLY reader: the corpus's PLY files read as OpenMesh's PLY reader reads them", "[corpus][ply]") {
-  using Mesh = OpenMesh::PolyMesh_ArrayKernelT<>;
   int files = 0;
   for (const auto& entry : fs::directory_iterator(test::corpus_directory())) {
     if (entry.path().extension() != ".ply") continue;
     INFO(entry.path());
-    const PolygonMesh ours = read_mesh(entry.path().string());
-    Mesh theirs;
-    REQUIRE(OpenMesh::IO::read_mesh(theirs, entry.path().string()));
-    REQUIRE(ours.vertex_count() == theirs.n_vertices());
-    REQUIRE(ours.face_count() == theirs.n_faces());
-    for (const auto v : theirs.vertices())
-      for (int k = 0; k < 3; ++k)
-        // OpenMesh's points are floats: a file of doubles (sphere.ply) it rounds, ours keeps.
-        REQUIRE(static_cast<float>(ours.positions[3 * static_cast<std::size_t>(v.idx()) + k]) == theirs.point(v)[k]);
-    // Each face's corners in turn, from its smallest (OpenMesh's walk starts at any corner).
-    auto from_smallest = [](std::vector<std::uint32_t> corners) {
-      std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
-      return corners;
-    };
-    for (const auto f : theirs.faces()) {
-      std::vector<std::uint32_t> corners;
-      for (const auto v : theirs.fv_range(f)) corners.push_back(static_cast<std::uint32_t>(v.idx()));
-      const std::size_t i = static_cast<std::size_t>(f.idx());
-      REQUIRE(from_smallest({ours.face_indices.begin() + ours.face_offsets[i],
-                             ours.face_indices.begin() + ours.face_offsets[i + 1]}) == from_smallest(corners));
-    }
+    // OpenMesh's points are floats: a file of doubles (sphere.ply) it rounds, ours keeps.
+    test::require_as_openmesh_reads(read_mesh(entry.path().string()), entry.path().string());
     ++files;
   }
   CHECK(files >= 2);

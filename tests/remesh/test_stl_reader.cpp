@@ -3,52 +3,19 @@
 // the sizes, and every truncation refused or read whole.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "meshlift/mesh_io.h"
+#include "test_reader_files.h"
 
-namespace fs = std::filesystem;
 using namespace meshlift;
 
 namespace {
-
-struct Scratch {
-  fs::path directory;
-  explicit Scratch(const std::string& name)
-      : directory(fs::temp_directory_path() / ("meshlift_stl_" + name + "_" + std::to_string(::getpid()))) {
-    fs::create_directories(directory);
-  }
-  ~Scratch() {
-    std::error_code ignored;
-    fs::remove_all(directory, ignored);
-  }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (directory / name).string();
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
-};
-
-std::string error_for(const Scratch& scratch, const std::string& bytes) {
-  const std::string path = scratch.write("bad.stl", bytes);
-  try {
-    read_mesh(path);
-  } catch (const MeshIOError& e) {
-    const std::string message = e.what();
-    REQUIRE(message.rfind(path + ": ", 0) == 0);
-    return message.substr(path.size() + 2);
-  }
-  return "no error";
-}
 
 void put_float(std::string& out, float x) {
   std::uint32_t u;
@@ -73,7 +40,7 @@ std::string binary_stl(const std::vector<std::vector<float>>& triangles, const s
 }  // namespace
 
 TEST_CASE("STL reader: binary corners merge by exact position, in the order of first use", "[stl]") {
-  Scratch scratch("binary");
+  test::Scratch scratch("binary");
   const float nan = std::numeric_limits<float>::quiet_NaN();
   // Two triangles on a shared edge (one corner there written -0 instead of +0), then a triangle
   // with a NaN corner, twice: NaN equals nothing, so each NaN corner is a vertex of its own.
@@ -94,7 +61,7 @@ TEST_CASE("STL reader: binary corners merge by exact position, in the order of f
 }
 
 TEST_CASE("STL reader: ascii facets, names, white space and line ends", "[stl]") {
-  Scratch scratch("ascii");
+  test::Scratch scratch("ascii");
   const std::string text =
       "solid my part\r\n  facet normal 0 0 1\r\n    outer loop\r\n      vertex 0 0 0\r\n      vertex 1 0 0\r\n"
       "      vertex 0 1 0\r\n    endloop\r\n  endfacet\r\nfacet normal 0 0 1 outer loop vertex 1 0 0 vertex +1 1e0 0\n"
@@ -110,30 +77,30 @@ TEST_CASE("STL reader: ascii facets, names, white space and line ends", "[stl]")
 }
 
 TEST_CASE("STL reader: errors name the facet or the sizes", "[stl]") {
-  Scratch scratch("errors");
+  test::Scratch scratch("errors");
   const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
-  CHECK_THAT(error_for(scratch, "hello"), Catch::Contains("not an STL file"));
+  CHECK_THAT(read_error(scratch, "stl", "hello"), Catch::Contains("not an STL file"));
   std::string binary = binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}});
-  CHECK_THAT(error_for(scratch, binary + "x"), Catch::Contains("binary STL claims 1 triangles: 134 bytes, but the file has 135"));
+  CHECK_THAT(read_error(scratch, "stl", binary + "x"), Catch::Contains("binary STL claims 1 triangles: 134 bytes, but the file has 135"));
   binary[80] = '\xff';  // claims 255 triangles
-  CHECK_THAT(error_for(scratch, binary), Catch::Contains("claims 255 triangles"));
-  CHECK_THAT(error_for(scratch, "solid x\n" + facet + "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"),
+  CHECK_THAT(read_error(scratch, "stl", binary), Catch::Contains("claims 255 triangles"));
+  CHECK_THAT(read_error(scratch, "stl", "solid x\n" + facet + "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n"),
              Catch::Contains("ascii STL facet 1: expected 'vertex', found 'endloop'"));
-  CHECK_THAT(error_for(scratch, "solid x\n" + facet + "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+  CHECK_THAT(read_error(scratch, "stl", "solid x\n" + facet + "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                                                       "vertex 0 1 0\nvertex 1 1 1\nendloop\nendfacet\n"),
              Catch::Contains("expected 'endloop', found 'vertex'"));
-  CHECK_THAT(error_for(scratch, "solid x\n" + facet + "vertex 0 0 0\n"), Catch::Contains("expected 'facet' or 'endsolid'"));
-  CHECK_THAT(error_for(scratch, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 nan 0\n"),
+  CHECK_THAT(read_error(scratch, "stl", "solid x\n" + facet + "vertex 0 0 0\n"), Catch::Contains("expected 'facet' or 'endsolid'"));
+  CHECK_THAT(read_error(scratch, "stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 nan 0\n"),
              Catch::Contains("'nan' is not a finite coordinate"));
-  CHECK_THAT(error_for(scratch, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 1e39 0\n"),
+  CHECK_THAT(read_error(scratch, "stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 1e39 0\n"),
              Catch::Contains("'1e39' is not a finite coordinate"));
-  CHECK_THAT(error_for(scratch, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0"),
+  CHECK_THAT(read_error(scratch, "stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0"),
              Catch::Contains("'' is not a finite coordinate"));
-  CHECK_THAT(error_for(scratch, "solid x\nendsolid x\n"), Catch::Contains("no vertices"));
+  CHECK_THAT(read_error(scratch, "stl", "solid x\nendsolid x\n"), Catch::Contains("no vertices"));
 }
 
 TEST_CASE("STL reader: every truncation of a file is refused or reads whole facets", "[stl]") {
-  Scratch scratch("truncation");
+  test::Scratch scratch("truncation");
   const std::string ascii =
       "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
       "facet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
