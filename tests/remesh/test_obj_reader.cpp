@@ -4,7 +4,6 @@
 // reads it.
 #include <catch2/catch.hpp>
 
-
 #include <cstdint>
 #include <string>
 #include <vector>

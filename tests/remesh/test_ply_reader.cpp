@@ -5,7 +5,6 @@
 // (but for doubles, which it rounds to floats).
 #include <catch2/catch.hpp>
 
-
 #include <bit>
 #include <cstdint>
 #include <cstring>
