@@ -274,11 +274,15 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     assign_large(impulses, V, 0.0);
     // Each value's extremes over all vertices (the bounding box and the channels' ranges), and
     // whether one is NaN or infinite, in one pass over the input in its own order (min and max are
-    // exact: the order they see the values in does not matter); the values are then gathered in
-    // canonical order already centred, each written once.
+    // exact; the one case where their order shows, a signed zero, is settled below); the values
+    // are then gathered in canonical order already centred, each written once.
     double lowest[zerotree::kMaxComponents], highest[zerotree::kMaxComponents];  // K <= kMaxComponents: checked above
     // Whether a coordinate ([0]) or a channel value ([1]) is NaN or infinite.
     bool nonfinite[2] = {false, false};
+    // The extremes as a pass in canonical order finds them: where every value of a component is
+    // a zero, min and max keep the first they see, so the sign of the centre (0.5 (lo + hi)) is
+    // that of canonical vertex 0's zero. Elsewhere the order changes nothing they give.
+    const std::size_t first_vertex = in_order ? 0 : old_vertex[0];
     auto take_extremes = [&](const std::vector<double>& array, std::size_t n, std::size_t first) {
       // In locals: in the arrays, every value's update would be stored and loaded back.
       double low[zerotree::kMaxComponents], high[zerotree::kMaxComponents];
@@ -292,6 +296,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
           high[i] = std::max(high[i], x);
           bad |= !(std::abs(x) <= std::numeric_limits<double>::max());
         }
+      for (std::size_t i = 0; i < n; ++i)
+        if (low[i] == 0 && high[i] == 0) low[i] = high[i] = array[n * first_vertex + i];
       std::copy_n(low, n, lowest + first);
       std::copy_n(high, n, highest + first);
       nonfinite[first >= 3] |= bad;

@@ -242,6 +242,7 @@ SemiRegularMesh refine_linear(const TriangleMesh& base, int levels) {
 namespace meshlift {
 
 std::optional<SemiRegularMesh> recover_level_ordered(const TriangleMesh& mesh) {
+  if (mesh.positions.size() % 3 != 0) return std::nullopt;  // no whole vertex count
   const std::size_t faces = mesh.face_count();
   const std::size_t vertices = mesh.vertex_count();
   // Face f of the base becomes faces 4f..4f+3, corner face i first; so base corner i of face f

@@ -324,15 +324,23 @@ void write_faces(const std::string& path, const std::vector<double>& positions, 
       fail(path, "face " + std::to_string(f) + " has " + std::to_string(n) + " corners: STL stores triangles only");
     if (n < 3) fail(path, "face " + std::to_string(f) + " has " + std::to_string(n) + " corners");
     const std::uint32_t* corners = faces.corners(f);
-    for (std::size_t c = 0; c < n; ++c) {
+    for (std::size_t c = 0; c < n; ++c)
       if (corners[c] >= vertex_count)
         fail(path, "face " + std::to_string(f) + " references vertex " + std::to_string(corners[c]) + " of " +
                        std::to_string(vertex_count));
-      // A face through one vertex twice has no well-defined surface: refused, not dropped.
-      for (std::size_t d = 0; d < c; ++d)
-        if (corners[d] == corners[c])
-          fail(path, "face " + std::to_string(f) + " repeats vertex " + std::to_string(corners[c]));
+    // A face through one vertex twice has no well-defined surface: refused, not dropped. (Sorted
+    // corners for a large polygon: pairs would take quadratic time.)
+    std::uint32_t repeated = kNone;
+    if (n <= 16) {
+      for (std::size_t c = 0; c < n && repeated == kNone; ++c)
+        for (std::size_t d = 0; d < c; ++d)
+          if (corners[d] == corners[c]) repeated = corners[c];
+    } else {
+      std::vector<std::uint32_t> sorted(corners, corners + n);
+      std::sort(sorted.begin(), sorted.end());
+      if (const auto twin = std::adjacent_find(sorted.begin(), sorted.end()); twin != sorted.end()) repeated = *twin;
     }
+    if (repeated != kNone) fail(path, "face " + std::to_string(f) + " repeats vertex " + std::to_string(repeated));
   }
 
   const fs::path target(path);

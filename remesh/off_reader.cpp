@@ -1,5 +1,7 @@
 #include "off_reader.h"
 
+#include "text_numbers.h"
+
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -105,44 +107,6 @@ std::optional<Layout> parse_keyword(std::string_view word) {
   return layout;
 }
 
-/// Drops one leading '+' (which operator>> accepted and std::from_chars does not).
-std::string_view without_plus(std::string_view text) {
-  if (text.size() > 1 && text[0] == '+' && text[1] != '+' && text[1] != '-') text.remove_prefix(1);
-  return text;
-}
-
-/// The whole token as a decimal integer; values beyond long long saturate (so that every range
-/// check refuses them), anything else that is not an integer gives nullopt.
-std::optional<long long> parse_integer(std::string_view text) {
-  text = without_plus(text);
-  long long value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (end != text.data() + text.size() || text.empty()) return std::nullopt;
-  if (error == std::errc::result_out_of_range) return text[0] == '-' ? std::numeric_limits<long long>::min() : std::numeric_limits<long long>::max();
-  if (error != std::errc()) return std::nullopt;
-  return value;
-}
-
-/// The whole token as a finite 32-bit float, correctly rounded (std::from_chars, locale-free,
-/// as strtof behind operator>>). A value too small for a float becomes a signed zero, as with
-/// operator>>; NaN, infinities, hex floats and values beyond the float range give nullopt.
-std::optional<float> parse_float(std::string_view text) {
-  text = without_plus(text);
-  const char* const first = text.data();
-  const char* const last = first + text.size();
-  float value = 0.0f;
-  const auto [end, error] = std::from_chars(first, last, value);
-  if (end != last || text.empty()) return std::nullopt;
-  if (error == std::errc::result_out_of_range) {
-    double wide = 0.0;  // underflow or overflow? a double holds the answer for any |exponent| < 308
-    const auto [wide_end, wide_error] = std::from_chars(first, last, wide);
-    if (wide_end != last || wide_error != std::errc() || std::abs(wide) >= 1.0) return std::nullopt;
-    return std::copysign(0.0f, static_cast<float>(wide));
-  }
-  if (error != std::errc() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
-
 /// A token quoted for a one-line message: cut at 40 bytes, bytes outside printable ASCII as \xHH.
 std::string quoted(std::string_view text) {
   // Appended piece by piece: GCC 12 reports a false -Wrestrict for "'" + std::string(...) (GCC bug 105651).
@@ -180,7 +144,7 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
 
   // Header keyword (optional), BINARY, the nOFF dimension.
   Layout layout;
-  if (const Token first = tokens.peek(); !first.text.empty() && !parse_integer(first.text)) {
+  if (const Token first = tokens.peek(); !first.text.empty() && !text_numbers::parse_integer(first.text)) {
     const std::optional<Layout> declared = parse_keyword(first.text);
     if (!declared) fail("unknown OFF header keyword " + quoted(first.text) + " (expected [ST][C][N][4][n]OFF)", first.line);
     layout = *declared;
@@ -189,7 +153,7 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
       fail("binary OFF is not supported (only ascii OFF is read)", first.line);
     if (layout.dimension_follows) {
       const Token dimension = tokens.next();
-      if (parse_integer(dimension.text) != 3)
+      if (text_numbers::parse_integer(dimension.text) != 3)
         fail(layout.keyword + " vertex dimension " + quoted(dimension.text) + " is not supported (only 3)", dimension.line);
     }
   }
@@ -197,8 +161,8 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
   // Counts "V F [E]"; E and the rest of F's line are ignored.
   const Token vertex_token = tokens.next();
   const Token face_token = tokens.next();
-  const std::optional<long long> vertex_count = parse_integer(vertex_token.text);
-  const std::optional<long long> face_count = parse_integer(face_token.text);
+  const std::optional<long long> vertex_count = text_numbers::parse_integer(vertex_token.text);
+  const std::optional<long long> face_count = text_numbers::parse_integer(face_token.text);
   if (!vertex_count || !face_count) fail("OFF header has no vertex and face counts", vertex_token.line);
   if (*vertex_count < 0 || *face_count < 0)
     fail("OFF header has a negative count (" + std::string(vertex_token.text) + " vertices, " +
@@ -235,7 +199,7 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     Token token;
     for (std::size_t k = 0; k < layout.coordinates(); ++k) {
       token = tokens.next();
-      const std::optional<float> value = parse_float(token.text);
+      const std::optional<float> value = text_numbers::parse_decimal<float>(token.text);
       if (!value)
         fail("vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number: " +
                  (token.text.empty() ? std::string("end of file") : quoted(token.text)),
@@ -266,7 +230,7 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     const std::string face = "face " + std::to_string(f);
     const Token size_token = tokens.next();
     if (size_token.text.empty()) fail("file ends before " + face + " of " + std::to_string(faces), size_token.line);
-    const std::optional<long long> corners = parse_integer(size_token.text);
+    const std::optional<long long> corners = text_numbers::parse_integer(size_token.text);
     if (!corners) fail(face + " has corner count " + quoted(size_token.text) + ", not an integer", size_token.line);
     if (*corners == 0) fail(face + " has no corners", size_token.line);
     if (*corners < 3) fail(face + " has " + std::string(size_token.text) + " corners, fewer than 3", size_token.line);
@@ -284,7 +248,7 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     for (long long c = 0; c < *corners; ++c) {
       token = tokens.next();
       if (token.text.empty()) fail("file ends in " + face + " of " + std::to_string(faces), token.line);
-      const std::optional<long long> index = parse_integer(token.text);
+      const std::optional<long long> index = text_numbers::parse_integer(token.text);
       if (!index) fail(face + " has corner " + quoted(token.text) + ", not a vertex index", token.line);
       if (*index < 0 || std::uintmax_t(*index) >= vertices)
         fail(face + " references vertex " + std::string(token.text) + " but the file has " + std::to_string(vertices) +

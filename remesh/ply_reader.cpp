@@ -1,6 +1,8 @@
 // PLY, ascii and binary. See ply_reader.h.
 #include "ply_reader.h"
 
+#include "text_numbers.h"
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -250,34 +252,16 @@ class AsciiBody {
     return bytes_.substr(start, at_ - start);
   }
   static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
-  /// An optional sign and digits; beyond 64 bits, the nearest 64-bit value.
   void parse_integer(std::string_view w, std::int64_t& out) {
-    const std::string_view digits = w[0] == '+' ? w.substr(1) : w;
-    const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), out);
-    if (digits.empty() || r.ptr != digits.data() + digits.size()) bad(w);
-    if (r.ec == std::errc::result_out_of_range)
-      out = digits[0] == '-' ? std::numeric_limits<std::int64_t>::min() : std::numeric_limits<std::int64_t>::max();
-    else if (r.ec != std::errc())
-      bad(w);
+    const std::optional<long long> value = text_numbers::parse_integer(w);
+    if (!value) bad(w);
+    out = *value;
   }
-  /// A plain decimal (no nan, inf or hexadecimal): digits, sign, point, exponent. Values beyond
-  /// the type's range are refused; those below its normal range are rounded (to a subnormal or
-  /// zero).
   template <class T>
   void parse_decimal(std::string_view w, T& out) {
-    const std::string_view text = w[0] == '+' ? w.substr(1) : w;
-    if (text.empty() || text.find_first_not_of("0123456789+-.eE") != std::string_view::npos) bad(w);
-    const auto r = std::from_chars(text.data(), text.data() + text.size(), out);
-    if (r.ptr != text.data() + text.size()) bad(w);
-    if (r.ec == std::errc::result_out_of_range) {
-      // Too large for the type: refused; too small for its normal range: a subnormal or zero.
-      long double v = 0;
-      std::from_chars(text.data(), text.data() + text.size(), v);
-      if (std::abs(v) > 1) bad(w);
-      out = static_cast<T>(v);
-    } else if (r.ec != std::errc()) {
-      bad(w);
-    }
+    const std::optional<T> value = text_numbers::parse_decimal<T>(w);
+    if (!value) bad(w);
+    out = *value;
   }
   [[noreturn]] void bad(std::string_view w) {
     fail(path_, "PLY " + (element != nullptr ? *element : std::string("body")) + " " + std::to_string(index) + ": '" +
@@ -299,14 +283,16 @@ void read_body(const std::string& path, Header& h, Body& body, PolygonMesh& mesh
     std::size_t least = 0;
     for (const Property& p : e.properties) least += size_of(p.count_type.value_or(p.type));
     if constexpr (std::is_same_v<Body, AsciiBody>) least = e.properties.size();  // a value takes a byte at least
-    if (least > 0 && e.count > body.left() / least)
+    if (least == 0) continue;  // items of no properties take no bytes: nothing to read
+    if (e.count > body.left() / least)
       fail(path, "PLY header claims " + std::to_string(e.count) + " " + e.name + " elements, more than the " +
                      std::to_string(body.left()) + " bytes left hold");
+    // Reserved within the bytes left (each kept value is read from one byte at least).
     const bool vertices = e.name == "vertex", faces = e.name == "face";
-    if (vertices) mesh.positions.reserve(mesh.positions.size() + 3 * e.count);
+    if (vertices) mesh.positions.reserve(mesh.positions.size() + std::min<std::uint64_t>(3 * e.count, body.left()));
     if (faces) {
       mesh.face_offsets.reserve(mesh.face_offsets.size() + e.count);
-      mesh.face_indices.reserve(mesh.face_indices.size() + 3 * e.count);
+      mesh.face_indices.reserve(mesh.face_indices.size() + std::min<std::uint64_t>(3 * e.count, body.left()));
     }
     for (std::uint64_t item = 0; item < e.count; ++item) {
       if constexpr (std::is_same_v<Body, AsciiBody>) body.element = &e.name, body.index = item;

@@ -24,16 +24,17 @@ namespace meshlift {
 /// - Body: the elements in header order, each item its properties in order: in binary, packed
 ///   values in the stated byte order (a list: its count, then that many values); in ascii,
 ///   numbers separated by white space, integers for integer types (an optional sign and digits),
-///   decimals for float types (digits, sign, `.`, exponent: no `nan` or `inf`).
+///   decimals for float types (no `nan`, `inf`, hexadecimal, or values beyond the type's range).
 /// - What is kept: element `vertex`, whose scalar properties `x`, `y`, `z` (any numeric type)
 ///   are the positions, kept as the file's values (a float exactly, a double exactly); element
 ///   `face`, whose list `vertex_indices` (or `vertex_index`) of integers are its corners, kept
 ///   as they are (a negative index becomes an out-of-range one, for read_mesh to report). Every
 ///   other element and property is read past.
 /// - Before anything is reserved, each element's count is checked against the body's bytes (a
-///   binary item takes its fixed part's bytes, at least one; an ascii item at least one byte),
-///   and each list's count against the bytes left: memory stays within a small multiple of the
-///   file size.
+///   binary item takes its fixed part's bytes, an ascii item a byte per property, at least), and
+///   each list's count against the bytes left: memory stays within a small multiple of the file
+///   size. An element of no properties takes no bytes, whatever its count: nothing is read.
+/// - Ascii numbers are read by text_numbers.h (shared with the other text formats).
 ///
 /// \throw MeshIOError "path: problem", naming the element, the item and the offending value,
 ///        e.g. "PLY face 12: a list claims 4294967295 entries, more than the 1000 bytes left in the file", or

@@ -276,6 +276,21 @@ SemiRegularMesh assemble(const std::vector<CoarseLevel>& levels, const TriangleM
   return result;
 }
 
+/// Whether two faces have the same three corners, in any order: such a base (two triangles
+/// glued along their three edges) passes TriangleTopology::build, but the inner edges of their
+/// refinements coincide, four faces on each. Any other base build() accepts refines to a
+/// manifold mesh: an inner edge joins the midpoints of two edges of one face, which only a face
+/// on the same three corners shares.
+bool has_twin_faces(const std::vector<std::uint32_t>& triangles) {
+  std::vector<std::array<std::uint32_t, 3>> corners(triangles.size() / 3);
+  for (std::size_t f = 0; f < corners.size(); ++f) {
+    corners[f] = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]};
+    std::sort(corners[f].begin(), corners[f].end());
+  }
+  std::sort(corners.begin(), corners.end());
+  return std::adjacent_find(corners.begin(), corners.end()) != corners.end();
+}
+
 /// Undoes further splits below `levels` (or, if empty, of the mesh itself) while possible.
 void coarsen_further(std::vector<CoarseLevel>& levels, const TriangleMesh& mesh) {
   while (static_cast<int>(levels.size()) < kMaxLevels) {
@@ -291,7 +306,7 @@ void coarsen_further(std::vector<CoarseLevel>& levels, const TriangleMesh& mesh)
 std::optional<SemiRegularMesh> recover_in_level_order(const TriangleMesh& mesh) {
   if (mesh.vertex_count() >= kNone) return std::nullopt;
   std::optional<SemiRegularMesh> ordered = recover_level_ordered(mesh);
-  if (!ordered) return std::nullopt;
+  if (!ordered || has_twin_faces(ordered->hierarchy.triangles(0))) return std::nullopt;
   // Its base may itself be a refinement numbered otherwise (a semi-regular mesh refined by a
   // tool that numbers the new vertices in its own edge order, as `meshlift subdivide` does): the
   // splits below it are undone as any others (the base passed TriangleTopology::build).

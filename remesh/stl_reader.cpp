@@ -1,14 +1,16 @@
 // STL, ascii and binary. See stl_reader.h.
 #include "stl_reader.h"
 
+#include "text_numbers.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <system_error>
+#include <optional>
 #include <vector>
 
 namespace meshlift {
@@ -95,6 +97,13 @@ PolygonMesh read_binary(std::string_view bytes, std::uint32_t triangles) {
   return mesh;
 }
 
+/// Whether `word` is `keyword`, in any letter case (exporters write SOLID, FACET, ...).
+bool is(std::string_view word, std::string_view keyword) {
+  return word.size() == keyword.size() && std::equal(word.begin(), word.end(), keyword.begin(), [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) == b;
+         });
+}
+
 PolygonMesh read_ascii(const std::string& path, std::string_view text) {
   std::size_t at = 0;
   auto word = [&]() -> std::string_view {
@@ -111,17 +120,31 @@ PolygonMesh read_ascii(const std::string& path, std::string_view text) {
   Vertices vertices(text.size() / 200);  // ~260 bytes per ascii facet: ~1.5 vertices per facet
   word();  // "solid", checked by the caller
   skip_line();
-  for (std::size_t facet = 0;; ++facet) {
+  for (std::size_t facet = 0;;) {
     const auto where = [&] { return "ascii STL facet " + std::to_string(facet); };
+    const auto found = [](std::string_view w) {
+      if (w.empty()) return std::string("the end of the file");
+      std::string quoted(1, '\'');  // appended piece by piece: GCC 12's false -Wrestrict (bug 105651)
+      quoted.append(w.substr(0, 40));
+      quoted.push_back('\'');
+      return quoted;
+    };
     const auto expect = [&](std::string_view expected) {
       const std::string_view w = word();
-      if (w != expected)
-        fail(path, where() + ": expected '" + std::string(expected) + "', found '" +
-                       (w.empty() ? std::string("the end of the file") : std::string(w.substr(0, 40))) + "'");
+      if (!is(w, expected)) fail(path, where() + ": expected '" + std::string(expected) + "', found " + found(w));
     };
     const std::string_view w = word();
-    if (w.empty() || w == "endsolid") break;
-    if (w != "facet") fail(path, where() + ": expected 'facet' or 'endsolid', found '" + std::string(w.substr(0, 40)) + "'");
+    if (w.empty()) break;  // endsolid may be missing at the end
+    if (is(w, "endsolid")) {
+      // Then the end of the file, or another solid (files of several parts).
+      skip_line();
+      const std::string_view next = word();
+      if (next.empty()) break;
+      if (!is(next, "solid")) fail(path, "ascii STL: expected 'solid' or the end of the file after 'endsolid', found " + found(next));
+      skip_line();
+      continue;
+    }
+    if (!is(w, "facet")) fail(path, where() + ": expected 'facet' or 'endsolid', found " + found(w));
     expect("normal");
     for (int k = 0; k < 3; ++k) word();  // the normal: not kept
     expect("outer");
@@ -130,25 +153,16 @@ PolygonMesh read_ascii(const std::string& path, std::string_view text) {
     for (Point& p : corners) {
       expect("vertex");
       for (float& x : p) {
-        std::string_view number = word();
-        if (!number.empty() && number[0] == '+') number.remove_prefix(1);
-        const auto r = std::from_chars(number.data(), number.data() + number.size(), x);
-        bool ok = !number.empty() && r.ptr == number.data() + number.size() &&
-                  number.find_first_not_of("0123456789+-.eE") == std::string_view::npos;
-        if (ok && r.ec == std::errc::result_out_of_range) {
-          long double v = 0;
-          std::from_chars(number.data(), number.data() + number.size(), v);
-          ok = std::abs(v) <= 1;  // below the float range: a subnormal or zero; above: refused
-          x = static_cast<float>(v);
-        } else {
-          ok = ok && r.ec == std::errc();
-        }
-        if (!ok) fail(path, where() + ": '" + std::string(number.substr(0, 40)) + "' is not a finite coordinate");
+        const std::string_view number = word();
+        const std::optional<float> value = text_numbers::parse_decimal<float>(number);
+        if (!value) fail(path, where() + ": '" + std::string(number.substr(0, 40)) + "' is not a finite coordinate");
+        x = *value;
       }
     }
     expect("endloop");
     expect("endfacet");
     add_triangle(mesh, vertices, corners);
+    ++facet;
   }
   return mesh;
 }
@@ -160,11 +174,11 @@ PolygonMesh read_stl(const std::string& path, std::string_view bytes) {
     std::uint32_t triangles = 0;
     for (int i = 0; i < 4; ++i) triangles |= std::uint32_t{static_cast<unsigned char>(bytes[80 + i])} << (8 * i);
     if (84 + 50 * std::uint64_t{triangles} == bytes.size()) return read_binary(bytes, triangles);
-    if (bytes.substr(0, 5) != "solid")
+    if (!is(bytes.substr(0, 5), "solid"))
       fail(path, "binary STL claims " + std::to_string(triangles) + " triangles: " +
                      std::to_string(84 + 50 * std::uint64_t{triangles}) + " bytes, but the file has " +
                      std::to_string(bytes.size()));
-  } else if (bytes.substr(0, 5) != "solid") {
+  } else if (!is(bytes.substr(0, 5), "solid")) {
     fail(path, "not an STL file: " + std::to_string(bytes.size()) +
                    " bytes, shorter than a binary header, and no 'solid' at the start");
   }

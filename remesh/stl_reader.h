@@ -19,9 +19,10 @@ namespace meshlift {
 ///   A file is binary when its size is exactly 84 + 50 T; one that is not, and does not start
 ///   with `solid`, is an error naming both sizes.
 /// - Ascii: `solid [name]`, then facets `facet normal nx ny nz` `outer loop` `vertex x y z` (three
-///   of them) `endloop` `endfacet`, then `endsolid [name]` (optional at the end of the file).
-///   Words are separated by any white space; coordinates are parsed as 32-bit floats, rounded as
-///   strtof rounds. A facet of other than three vertices, or a word out of place, is an error.
+///   of them) `endloop` `endfacet`, then `endsolid [name]` (optional at the end of the file),
+///   perhaps followed by further solids (files of several parts: all are read). Keywords in any
+///   letter case; words separated by any white space; coordinates parsed as 32-bit floats
+///   (text_numbers.h). A facet of other than three vertices, or a word out of place, is an error.
 /// STL stores each triangle's corners apart: corners at exactly the same point (as floats, so
 /// -0 and +0 alike) are one vertex, numbered in the order of first use, as OpenMesh's reader
 /// numbers them. Normals and attributes are ignored. NaN and infinite binary coordinates are

@@ -44,6 +44,9 @@ TEST_CASE("OBJ reader: errors name the line", "[obj]") {
   CHECK_THAT(read_error(scratch, "obj", three + "v 1 inf 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
   CHECK_THAT(read_error(scratch, "obj", three + "v 1 1e39 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
   CHECK_THAT(read_error(scratch, "obj", three + "v 1 0x10 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK_THAT(read_error(scratch, "obj", three + "v 1 1e5000 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK_THAT(read_error(scratch, "obj", three + "v 1 +-1 0\n"), Catch::Contains("OBJ line 4: a vertex coordinate"));
+  CHECK_THAT(read_error(scratch, "obj", three + "f 1 2 +-1\n"), Catch::Contains("'+-1' has no integer vertex index"));
   CHECK(read_error(scratch, "obj", three + "f /1 2 3\n") == "OBJ line 4 has a face corner without a vertex index");
   CHECK_THAT(read_error(scratch, "obj", three + "f 1 x 3\n"), Catch::Contains("OBJ line 4: face corner 'x' has no integer vertex index"));
   CHECK_THAT(read_error(scratch, "obj", three + "f 1 2.5 3\n"), Catch::Contains("'2.5' has no integer vertex index"));

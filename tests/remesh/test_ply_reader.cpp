@@ -138,7 +138,9 @@ TEST_CASE("PLY reader: errors name the problem", "[ply]") {
       {"0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "'1.5' is not a valid number"},
       {"0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n", "claims -3 entries"},
       {"0 0 0\n1 0 0\n0 1 0\n0\n", "face 0 has no corners"},
-      {"0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "ends inside face 0"}};
+      {"0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "ends inside face 0"},
+      {"0 0 0\n1 1e5000 0\n0 1 0\n3 0 1 2\n", "'1e5000' is not a valid number"},
+      {"0 0 0\n1 0 0\n0 1 0\n3 0 +-1 2\n", "'+-1' is not a valid number"}};
   for (const auto& [bad_body, expected] : bodies)
     CHECK_THAT(read_error(scratch, "ply", ascii + vertex3 + face1 + "end_header\n" + bad_body), Catch::Contains(expected));
   // A value below the float range is zero, as strtof makes it.
@@ -149,6 +151,23 @@ TEST_CASE("PLY reader: errors name the problem", "[ply]") {
                        "property double z\nend_header\n";
   binary += std::string(24 * 10, '\0');
   CHECK_THAT(read_error(scratch, "ply", binary), Catch::Contains("claims 1000 vertex elements"));
+}
+
+TEST_CASE("PLY reader: elements of no properties are read past, whatever their counts", "[ply]") {
+  // Each such element may claim as many items as the file has bytes; reading them one by one
+  // would take the square of the file's size (a 1 MB file: minutes).
+  test::Scratch scratch("empty_elements");
+  std::string header = "ply\nformat binary_little_endian 1.0\n";
+  for (int i = 0; i < 20000; ++i) header += "element nothing 400000\n";
+  header += "element vertex 3\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+  std::string body;
+  for (const double x : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0}) put(body, x, false);
+  const PolygonMesh m = read_mesh(scratch.write("empty.ply", header + body));
+  CHECK(m.positions == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0});
+  // The double precision keeps a value beyond the float range that the file's type holds.
+  body.clear();
+  for (const double x : {1e300, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0}) put(body, x, false);
+  CHECK(read_mesh(scratch.write("wide.ply", header + body)).positions[0] == 1e300);
 }
 
 TEST_CASE("PLY reader: every truncation of a file is refused or reads the whole mesh", "[ply]") {

@@ -156,3 +156,18 @@ TEST_CASE("A level-ordered mesh refined again in another numbering recovers ever
   CHECK(result.recognized);
   CHECK(result.mesh.hierarchy.levels() == levels + 1);
 }
+
+TEST_CASE("remesh() refuses what its level-order route must not take over", "[remesh][recover]") {
+  // Two triangles on the same three corners pass TriangleTopology::build, but their refinements'
+  // inner edges coincide (four faces on each): refused as non-manifold, as validation says.
+  const TriangleMesh dihedron{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1}};
+  const TriangleMesh refined = refine_linear(dihedron, 2).finest();
+  CHECK_FALSE(recover_in_level_order(refined).has_value());
+  CHECK_THROWS_WITH(remesh(refined), Catch::Contains("non-manifold"));
+  // Positions that are not a whole number of vertices: refused as malformed, never read past.
+  TriangleMesh extra = refine_linear(test::icosahedron(), 2).finest();
+  extra.positions.push_back(0.5);
+  extra.positions.shrink_to_fit();
+  CHECK_FALSE(recover_in_level_order(extra).has_value());
+  CHECK_THROWS_WITH(remesh(extra), Catch::Contains("malformed"));
+}

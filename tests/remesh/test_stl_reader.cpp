@@ -76,6 +76,18 @@ TEST_CASE("STL reader: ascii facets, names, white space and line ends", "[stl]")
   CHECK(f.positions[7] == 0.0);
 }
 
+TEST_CASE("STL reader: several solids, and keywords in capitals", "[stl]") {
+  test::Scratch scratch("solids");
+  const std::string text =
+      "SOLID part one\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\nVERTEX 0 1 0\nENDLOOP\nENDFACET\n"
+      "ENDSOLID part one\nsolid part two\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n"
+      "endloop\nendfacet\nendsolid part two\n";
+  const PolygonMesh m = read_mesh(scratch.write("parts.stl", text));
+  CHECK(m.positions == std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+  CHECK(m.face_indices == std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2});
+  CHECK_THAT(read_error(scratch, "stl", text + "garbage\n"), Catch::Contains("expected 'solid' or the end of the file after 'endsolid'"));
+}
+
 TEST_CASE("STL reader: errors name the facet or the sizes", "[stl]") {
   test::Scratch scratch("errors");
   const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
@@ -94,6 +106,8 @@ TEST_CASE("STL reader: errors name the facet or the sizes", "[stl]") {
              Catch::Contains("'nan' is not a finite coordinate"));
   CHECK_THAT(read_error(scratch, "stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 1e39 0\n"),
              Catch::Contains("'1e39' is not a finite coordinate"));
+  CHECK_THAT(read_error(scratch, "stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 1e5000 0\n"),
+             Catch::Contains("'1e5000' is not a finite coordinate"));
   CHECK_THAT(read_error(scratch, "stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0"),
              Catch::Contains("'' is not a finite coordinate"));
   CHECK_THAT(read_error(scratch, "stl", "solid x\nendsolid x\n"), Catch::Contains("no vertices"));

@@ -1,5 +1,5 @@
-// Mesh files in and out (OBJ, OFF, PLY, STL): OFF is read by meshlift's own reader
-// (remesh/off_reader.h), the other formats and every writer go through OpenMesh.
+// Mesh files in and out (OBJ, OFF, PLY, STL), by meshlift's own readers (remesh/off_reader.h,
+// ply_reader.h, obj_reader.h, stl_reader.h) and writers (mesh_io.cpp).
 #pragma once
 
 #include <stdexcept>
@@ -19,27 +19,19 @@ class MeshIOError : public std::runtime_error {
 /// (case-insensitive) picks the format.
 ///
 /// Vertices and faces are kept exactly as the file lists them, in file order, even when the
-/// mesh is non-manifold, has repeated or isolated vertices or degenerate faces: validate_mesh()
-/// is the place that judges them. Three exceptions come from the OpenMesh readers themselves:
-/// - the STL reader merges bit-identical points into one vertex;
-/// - the OBJ reader removes repeated corners from a face and drops the face if fewer than three
-///   remain (OFF and PLY keep such faces);
-/// - every reader parses coordinates as 32-bit floats (OpenMesh 9's OBJ/PLY/STL readers have no
-///   double path, and the OFF reader rounds the same way), so positions carry float precision
-///   whatever the file holds.
+/// mesh is non-manifold, has repeated or isolated vertices or degenerate faces (repeated
+/// corners included): validate_mesh() is the place that judges them. STL stores each triangle's
+/// corners apart: its reader merges corners at the same point into one vertex. Coordinates of
+/// the text formats and of PLY `float` properties are parsed as 32-bit floats (rounded as strtof
+/// rounds); PLY `double` properties are kept as doubles.
 ///
-/// OFF: ascii `[ST][C][N][4][n]OFF` with comments anywhere; binary OFF is refused. Errors name
-/// the element and the line. Before OpenMesh sees an OBJ, PLY or STL file, it is checked for what
-/// makes OpenMesh's readers loop forever, exhaust memory or hit an assertion (element or list
-/// counts larger than the file, malformed PLY headers, OBJ corners without a vertex index); such
-/// files are rejected.
+/// Each reader checks every count against the bytes of the file before it reserves anything,
+/// and names the element, line or item of a problem; the grammars they accept are in their
+/// headers. Readers hold no shared state: any number may run at once.
 ///
-/// \throw MeshIOError if the file is missing or unreadable, the extension is unknown, the
-///        pre-check or the reader rejects the contents, a face has no corners or references a
-///        vertex that does not exist, the file holds no vertex, or the contents claim more
-///        elements than the file has bytes.
-/// \note  Not thread-safe for OBJ, PLY and STL: OpenMesh's IOManager and its log streams are
-///        process-wide.
+/// \throw MeshIOError if the file is missing or unreadable, the extension is unknown, the reader
+///        rejects the contents, a face has no corners or references a vertex that does not
+///        exist, or the file holds no vertex.
 PolygonMesh read_mesh(const std::string& path);
 
 /// Writes `mesh` to `path`, the format chosen by the extension (.obj, .off, .ply, .stl);

@@ -217,8 +217,10 @@ std::optional<SemiRegularMesh> recover_semi_regular(const TriangleMesh& mesh);
 /// recover_semi_regular()'s first route alone, for a mesh whose top levels are in level order
 /// (a remesh or a decoded file, as recover_level_ordered() finds them), with any further splits
 /// below its base undone too; nullopt for any other mesh. Takes any arrays (no precondition):
-/// the faces must equal the refinement of a base that TriangleTopology::build() accepts, so a
-/// mesh it recognizes is a manifold, consistently oriented triangle mesh without repeated corners.
+/// the faces must equal the refinement of a base that TriangleTopology::build() accepts and in
+/// which no two faces have the same three corners, so a mesh it recognizes is a manifold,
+/// consistently oriented triangle mesh without repeated corners, its positions a whole number
+/// of vertices.
 std::optional<SemiRegularMesh> recover_in_level_order(const TriangleMesh& mesh);
 
 }  // namespace meshlift
