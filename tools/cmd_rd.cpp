@@ -25,6 +25,7 @@
 #include "remesh_options.h"
 #include "files.h"
 #include "meshlift/codec.h"
+#include "meshlift/mesh_io.h"
 #include "meshlift/metric.h"
 #include "meshlift/remesh.h"
 
@@ -153,35 +154,6 @@ std::string first_line_of(const std::string& path) {
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
   const auto last_break = text.find_last_of('\n');
   return last_break == std::string::npos ? text : text.substr(last_break + 1);
-}
-
-/// Binary little-endian PLY of a triangle mesh for draco_encoder: float32 coordinates (exact: the
-/// mesh readers parse coordinates as float32) and uchar/int face lists. Written here rather than by
-/// save_mesh() because OpenMesh's writer refuses non-manifold meshes, which Draco accepts.
-bool write_ply_for_draco(const std::string& path, const TriangleMesh& mesh, std::string& error) {
-  std::ostringstream header;
-  header << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.vertex_count()
-         << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.face_count()
-         << "\nproperty list uchar int vertex_indices\nend_header\n";
-  const std::string text = header.str();
-  std::vector<std::uint8_t> bytes(text.begin(), text.end());
-  auto put = [&](const void* data, std::size_t size) {
-    const auto* p = static_cast<const std::uint8_t*>(data);
-    bytes.insert(bytes.end(), p, p + size);  // x86-64 and aarch64 Linux are little-endian
-  };
-  for (double x : mesh.positions) {
-    const float f = static_cast<float>(x);
-    put(&f, sizeof f);
-  }
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const std::uint8_t corners = 3;
-    put(&corners, 1);
-    for (int i = 0; i < 3; ++i) {
-      const std::int32_t v = static_cast<std::int32_t>(mesh.triangles[3 * f + i]);
-      put(&v, sizeof v);
-    }
-  }
-  return write_bytes(path, bytes, error);
 }
 
 /// Progress on stderr, only when it is a terminal; one line rewritten in place.
@@ -435,9 +407,14 @@ class Sweep {
     fs::create_directories(scratch_dir(), ec);
     const std::string stem = (scratch_dir() / (reference.name + "_qp" + row.param)).string();
     const std::string in_ply = (scratch_dir() / (reference.name + ".ply")).string();
-    std::string write_error;
-    if (!fs::exists(in_ply) && !write_ply_for_draco(in_ply, reference.mesh, write_error))
-      return add(failed(row, "cannot write the input for draco_encoder: " + write_error));
+    // Binary PLY, float coordinates (mesh_io.h; any faces, non-manifold ones too, as Draco takes them).
+    if (!fs::exists(in_ply)) {
+      try {
+        write_mesh(in_ply, reference.mesh, true);
+      } catch (const MeshIOError& e) {
+        return add(failed(row, std::string("cannot write the input for draco_encoder: ") + e.what()));
+      }
+    }
     const std::string drc = stem + ".drc", out_ply = stem + "_decoded.ply", log = stem + ".log";
 
     auto t0 = std::chrono::steady_clock::now();
