@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -97,19 +96,22 @@ PolygonMesh read_binary(std::string_view bytes, std::uint32_t triangles) {
   return mesh;
 }
 
-/// Whether `word` is `keyword`, in any letter case (exporters write SOLID, FACET, ...).
+/// Whether `word` is `keyword` (lower case), in any letter case (exporters write SOLID, FACET, ...).
 bool is(std::string_view word, std::string_view keyword) {
   return word.size() == keyword.size() && std::equal(word.begin(), word.end(), keyword.begin(), [](char a, char b) {
-           return std::tolower(static_cast<unsigned char>(a)) == b;
+           return (a >= 'A' && a <= 'Z' ? static_cast<char>(a - 'A' + 'a') : a) == b;
          });
 }
+
+/// White space as isspace() has it in the C locale, without a call per byte.
+bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\f' || c == '\v'; }
 
 PolygonMesh read_ascii(const std::string& path, std::string_view text) {
   std::size_t at = 0;
   auto word = [&]() -> std::string_view {
-    while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+    while (at < text.size() && is_space(text[at])) ++at;
     const std::size_t start = at;
-    while (at < text.size() && !std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+    while (at < text.size() && !is_space(text[at])) ++at;
     return text.substr(start, at - start);
   };
   // The rest of the current line (a solid's name).
