@@ -227,17 +227,24 @@ TEST_CASE("the quantizer four coefficients at a time gives the bits of FORMAT.md
       }
 }
 
+namespace {
+
+/// `base` with its vertices numbered backwards: not the base coder's traversal order.
+TriangleMesh backwards(const TriangleMesh& base) {
+  const std::uint32_t n = static_cast<std::uint32_t>(base.positions.size() / 3);
+  TriangleMesh out = base;
+  for (std::uint32_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) out.positions[3 * (n - 1 - v) + k] = base.positions[3 * v + k];
+  for (std::uint32_t& v : out.triangles) v = n - 1 - v;
+  return out;
+}
+
+}  // namespace
+
 TEST_CASE("the encoder writes the same bytes on 1 and 2 threads, and from a mesh in canonical order already", "[codec]") {
   // Channels, a boundary, and each scheme with and without local frames (the closed loop's two
   // halves of each level's edges run side by side on 2 threads).
-  // The disk's base with its vertices numbered backwards: not the coder's traversal order.
-  TriangleMesh base = test::disk(7);
-  const std::uint32_t n = static_cast<std::uint32_t>(base.positions.size() / 3);
-  TriangleMesh backwards = base;
-  for (std::uint32_t v = 0; v < n; ++v)
-    for (int k = 0; k < 3; ++k) backwards.positions[3 * (n - 1 - v) + k] = base.positions[3 * v + k];
-  for (std::uint32_t& v : backwards.triangles) v = n - 1 - v;
-  SemiRegularMesh given = refine_linear(backwards, 3);
+  SemiRegularMesh given = refine_linear(backwards(test::disk(7)), 3);
   const std::vector<double> noise = test::random_values(given.positions.size(), 9);
   for (std::size_t i = 0; i < given.positions.size(); ++i) given.positions[i] += 0.01 * noise[i];
   VertexChannel scalar{1, {}};
@@ -301,12 +308,7 @@ TEST_CASE("a flat mesh of signed zeros encodes as its canonical order does", "[c
   // canonical order gives (that of canonical vertex 0's zero), or the two inputs' headers differ.
   TriangleMesh base = test::disk(7);
   for (std::size_t v = 0; v < base.positions.size() / 3; ++v) base.positions[3 * v + 2] = 0.0;
-  const std::uint32_t n = static_cast<std::uint32_t>(base.positions.size() / 3);
-  TriangleMesh backwards = base;
-  for (std::uint32_t v = 0; v < n; ++v)
-    for (int k = 0; k < 3; ++k) backwards.positions[3 * (n - 1 - v) + k] = base.positions[3 * v + k];
-  for (std::uint32_t& v : backwards.triangles) v = n - 1 - v;
-  SemiRegularMesh given = refine_linear(backwards, 2);
+  SemiRegularMesh given = refine_linear(backwards(base), 2);
   VertexChannel zeros{2, std::vector<double>(2 * given.positions.size() / 3, -0.0)};
   for (std::size_t v = 0; v < given.positions.size() / 3; ++v) given.positions[3 * v + 2] = v == 0 ? 0.0 : -0.0;
   zeros.values[0] = zeros.values[1] = 0.0;
