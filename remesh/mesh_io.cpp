@@ -1,5 +1,6 @@
 #include "meshlift/mesh_io.h"
 
+#include "file_text.h"
 #include "obj_reader.h"
 #include "off_reader.h"
 #include "ply_reader.h"
@@ -41,9 +42,7 @@ bool is_supported_extension(const std::string& ext) {
   return ext == "obj" || ext == "off" || ext == "ply" || ext == "stl";
 }
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw MeshIOError(path + ": " + problem);
-}
+using file_text::fail;
 
 std::string random_suffix() {
   std::random_device device;

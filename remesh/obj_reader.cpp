@@ -1,7 +1,7 @@
 // Wavefront OBJ geometry. See obj_reader.h.
 #include "obj_reader.h"
 
-#include "text_numbers.h"
+#include "file_text.h"
 
 #include <cmath>
 #include <cstdint>
@@ -10,35 +10,12 @@
 #include <system_error>
 
 namespace meshlift {
-namespace {
-
-[[noreturn]] void fail(const std::string& path, const std::string& problem) { throw MeshIOError(path + ": " + problem); }
-
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
-
-/// The words of one line, one at a time.
-class Words {
- public:
-  explicit Words(std::string_view line) : line_(line) {}
-  /// The next word; empty at the end of the line.
-  std::string_view next() {
-    while (at_ < line_.size() && is_blank(line_[at_])) ++at_;
-    const std::size_t start = at_;
-    while (at_ < line_.size() && !is_blank(line_[at_])) ++at_;
-    return line_.substr(start, at_ - start);
-  }
-
- private:
-  std::string_view line_;
-  std::size_t at_ = 0;
-};
-
-}  // namespace
+using file_text::fail;
 
 PolygonMesh read_obj(const std::string& path, std::string_view text) {
   PolygonMesh mesh;
+  text = file_text::without_byte_order_mark(text);
   std::size_t at = 0, line_number = 0;
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") at = 3;  // a UTF-8 byte-order mark
   while (at < text.size()) {
     // The next line, ended by LF, CRLF or CR, without its comment.
     std::size_t end = at;
@@ -48,22 +25,23 @@ PolygonMesh read_obj(const std::string& path, std::string_view text) {
     ++line_number;
     if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
     const auto where = [&] { return "OBJ line " + std::to_string(line_number); };
-    Words words(line);
-    const std::string_view keyword = words.next();
+    std::size_t in_line = 0;
+    const auto word = [&] { return file_text::next_word(line, in_line); };
+    const std::string_view keyword = word();
     if (keyword == "v") {
       for (int k = 0; k < 3; ++k) {
-        const std::optional<float> x = text_numbers::parse_decimal<float>(words.next());
+        const std::optional<float> x = file_text::parse_decimal<float>(word());
         if (!x) fail(path, where() + ": a vertex coordinate is missing or not a finite number");
         mesh.positions.push_back(*x);
       }
     } else if (keyword == "f") {
       const std::size_t first = mesh.face_indices.size();
       const auto vertices = static_cast<std::int64_t>(mesh.vertex_count());
-      for (std::string_view corner = words.next(); !corner.empty(); corner = words.next()) {
+      for (std::string_view corner = word(); !corner.empty(); corner = word()) {
         const std::string_view index = corner.substr(0, corner.find('/'));
         if (index.empty()) fail(path, where() + " has a face corner without a vertex index");
-        const std::optional<long long> i = text_numbers::parse_integer(index);
-        if (!i) fail(path, where() + ": face corner '" + std::string(corner.substr(0, 40)) + "' has no integer vertex index");
+        const std::optional<long long> i = file_text::parse_integer(index);
+        if (!i) fail(path, where() + ": face corner " + file_text::quoted(corner) + " has no integer vertex index");
         // 1-based; negative: back from the last vertex so far. 0 and beyond (saturated): no vertex.
         const std::int64_t v = *i > 0 ? *i - 1 : *i < 0 ? vertices + *i : -1;
         mesh.face_indices.push_back(v >= 0 && v < std::int64_t{kNone} ? static_cast<std::uint32_t>(v) : kNone);

@@ -1,6 +1,6 @@
 #include "off_reader.h"
 
-#include "text_numbers.h"
+#include "file_text.h"
 
 #include <charconv>
 #include <cmath>
@@ -23,9 +23,7 @@ struct Token {
 /// defined on the same tokens, by their line numbers.
 class Tokenizer {
  public:
-  explicit Tokenizer(std::string_view text) : text_(text) {
-    if (text_.substr(0, 3) == "\xEF\xBB\xBF") position_ = 3;
-  }
+  explicit Tokenizer(std::string_view text) : text_(file_text::without_byte_order_mark(text)) {}
 
   Token next() {
     skip_blanks();
@@ -55,8 +53,7 @@ class Tokenizer {
   std::size_t remaining_bytes() const { return text_.size() - position_; }
 
  private:
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
-  static bool is_delimiter(char c) { return is_space(c) || c == '#'; }
+  static bool is_delimiter(char c) { return file_text::is_space(c) || c == '#'; }
 
   /// Moves to the start of the next token, over white space, line ends and comments.
   void skip_blanks() {
@@ -67,7 +64,7 @@ class Tokenizer {
       } else if (c == '\n' || (c == '\r' && (position_ + 1 == text_.size() || text_[position_ + 1] != '\n'))) {
         ++line_;
         ++position_;
-      } else if (is_space(c)) {
+      } else if (file_text::is_space(c)) {
         ++position_;  // including the CR of a CRLF, whose LF counts the line
       } else {
         break;
@@ -107,23 +104,6 @@ std::optional<Layout> parse_keyword(std::string_view word) {
   return layout;
 }
 
-/// A token quoted for a one-line message: cut at 40 bytes, bytes outside printable ASCII as \xHH.
-std::string quoted(std::string_view text) {
-  // Appended piece by piece: GCC 12 reports a false -Wrestrict for "'" + std::string(...) (GCC bug 105651).
-  std::string result(1, '\'');
-  for (const char c : text.substr(0, 40)) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7f) {
-      result.push_back(c);
-    } else {
-      const char* const hex = "0123456789abcdef";
-      result.append({'\\', 'x', hex[byte >> 4], hex[byte & 15]});
-    }
-  }
-  result.append(text.size() > 40 ? "...'" : "'");
-  return result;
-}
-
 /// Throws the reader's MeshIOError: "path: problem (line L)".
 class Failure {
  public:
@@ -144,25 +124,25 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
 
   // Header keyword (optional), BINARY, the nOFF dimension.
   Layout layout;
-  if (const Token first = tokens.peek(); !first.text.empty() && !text_numbers::parse_integer(first.text)) {
+  if (const Token first = tokens.peek(); !first.text.empty() && !file_text::parse_integer(first.text)) {
     const std::optional<Layout> declared = parse_keyword(first.text);
-    if (!declared) fail("unknown OFF header keyword " + quoted(first.text) + " (expected [ST][C][N][4][n]OFF)", first.line);
+    if (!declared) fail("unknown OFF header keyword " + file_text::quoted(first.text) + " (expected [ST][C][N][4][n]OFF)", first.line);
     layout = *declared;
     tokens.next();
     if (const Token binary = tokens.peek(); binary.line == first.line && binary.text == "BINARY")
       fail("binary OFF is not supported (only ascii OFF is read)", first.line);
     if (layout.dimension_follows) {
       const Token dimension = tokens.next();
-      if (text_numbers::parse_integer(dimension.text) != 3)
-        fail(layout.keyword + " vertex dimension " + quoted(dimension.text) + " is not supported (only 3)", dimension.line);
+      if (file_text::parse_integer(dimension.text) != 3)
+        fail(layout.keyword + " vertex dimension " + file_text::quoted(dimension.text) + " is not supported (only 3)", dimension.line);
     }
   }
 
   // Counts "V F [E]"; E and the rest of F's line are ignored.
   const Token vertex_token = tokens.next();
   const Token face_token = tokens.next();
-  const std::optional<long long> vertex_count = text_numbers::parse_integer(vertex_token.text);
-  const std::optional<long long> face_count = text_numbers::parse_integer(face_token.text);
+  const std::optional<long long> vertex_count = file_text::parse_integer(vertex_token.text);
+  const std::optional<long long> face_count = file_text::parse_integer(face_token.text);
   if (!vertex_count || !face_count) fail("OFF header has no vertex and face counts", vertex_token.line);
   if (*vertex_count < 0 || *face_count < 0)
     fail("OFF header has a negative count (" + std::string(vertex_token.text) + " vertices, " +
@@ -199,10 +179,10 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     Token token;
     for (std::size_t k = 0; k < layout.coordinates(); ++k) {
       token = tokens.next();
-      const std::optional<float> value = text_numbers::parse_decimal<float>(token.text);
+      const std::optional<float> value = file_text::parse_decimal<float>(token.text);
       if (!value)
         fail("vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number: " +
-                 (token.text.empty() ? std::string("end of file") : quoted(token.text)),
+                 (token.text.empty() ? std::string("end of file") : file_text::quoted(token.text)),
              token.line);
       coordinate[k] = *value;
     }
@@ -212,7 +192,7 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
         const float value = static_cast<float>(double(coordinate[k]) / double(coordinate[3]));
         if (!std::isfinite(value))
           fail("vertex " + std::to_string(v) + " has a coordinate that is missing or not a finite number: w = " +
-                   quoted(token.text),
+                   file_text::quoted(token.text),
                token.line);
         coordinate[k] = value;
       }
@@ -230,8 +210,8 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     const std::string face = "face " + std::to_string(f);
     const Token size_token = tokens.next();
     if (size_token.text.empty()) fail("file ends before " + face + " of " + std::to_string(faces), size_token.line);
-    const std::optional<long long> corners = text_numbers::parse_integer(size_token.text);
-    if (!corners) fail(face + " has corner count " + quoted(size_token.text) + ", not an integer", size_token.line);
+    const std::optional<long long> corners = file_text::parse_integer(size_token.text);
+    if (!corners) fail(face + " has corner count " + file_text::quoted(size_token.text) + ", not an integer", size_token.line);
     if (*corners == 0) fail(face + " has no corners", size_token.line);
     if (*corners < 3) fail(face + " has " + std::string(size_token.text) + " corners, fewer than 3", size_token.line);
     if (std::uintmax_t(*corners) > vertices)
@@ -248,8 +228,8 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     for (long long c = 0; c < *corners; ++c) {
       token = tokens.next();
       if (token.text.empty()) fail("file ends in " + face + " of " + std::to_string(faces), token.line);
-      const std::optional<long long> index = text_numbers::parse_integer(token.text);
-      if (!index) fail(face + " has corner " + quoted(token.text) + ", not a vertex index", token.line);
+      const std::optional<long long> index = file_text::parse_integer(token.text);
+      if (!index) fail(face + " has corner " + file_text::quoted(token.text) + ", not a vertex index", token.line);
       if (*index < 0 || std::uintmax_t(*index) >= vertices)
         fail(face + " references vertex " + std::string(token.text) + " but the file has " + std::to_string(vertices) +
                  " vertices",

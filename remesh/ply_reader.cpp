@@ -1,7 +1,7 @@
 // PLY, ascii and binary. See ply_reader.h.
 #include "ply_reader.h"
 
-#include "text_numbers.h"
+#include "file_text.h"
 
 #include <algorithm>
 #include <bit>
@@ -67,7 +67,8 @@ struct Element {
   std::vector<Property> properties;
 };
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) { throw MeshIOError(path + ": " + problem); }
+using file_text::fail;
+using file_text::quoted;
 
 /// The header's words, line by line, and where the body starts.
 struct Header {
@@ -78,13 +79,8 @@ struct Header {
 
 std::vector<std::string_view> words_of(std::string_view line) {
   std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
+  std::size_t at = 0;
+  for (std::string_view w = file_text::next_word(line, at); !w.empty(); w = file_text::next_word(line, at)) words.push_back(w);
   return words;
 }
 
@@ -107,7 +103,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
     const auto line = next_line();
     if (!line) fail(path, "PLY header has no end_header line");
     const std::vector<std::string_view> w = words_of(*line);
-    const auto malformed = [&] { fail(path, "malformed PLY header line '" + std::string(line->substr(0, 80)) + "'"); };
+    const auto malformed = [&] { fail(path, "malformed PLY header line " + quoted(*line)); };
     if (w.empty()) malformed();
     if (w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
@@ -126,7 +122,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
       const std::string_view count = w[2];
       const auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
       if (count.empty() || count.find_first_not_of("0123456789") != std::string_view::npos)
-        fail(path, "PLY element line '" + std::string(line->substr(0, 80)) + "' has no valid count");
+        fail(path, "PLY element line " + quoted(*line) + " has no valid count");
       if (r.ec != std::errc() || e.count > bytes.size())
         fail(path, "PLY header claims " + std::string(count.substr(0, 20)) + " " + e.name +
                        " elements, more than the file's " + std::to_string(bytes.size()) + " bytes");
@@ -139,9 +135,9 @@ Header parse_header(const std::string& path, std::string_view bytes) {
       const auto type = type_named(w[list ? 3 : 1]);
       const auto count_type = list ? type_named(w[2]) : std::nullopt;
       if (!type || (list && !count_type))
-        fail(path, "PLY property line '" + std::string(line->substr(0, 80)) + "' has an unknown type");
+        fail(path, "PLY property line " + quoted(*line) + " has an unknown type");
       if (list && is_float(*count_type))
-        fail(path, "PLY property line '" + std::string(line->substr(0, 80)) + "': a list's count must be an integer type");
+        fail(path, "PLY property line " + quoted(*line) + ": a list's count must be an integer type");
       p.type = *type;
       p.count_type = count_type;
       p.name = w[list ? 4 : 2];
@@ -245,27 +241,21 @@ class AsciiBody {
   std::uint64_t index = 0;
 
  private:
-  std::string_view word() {
-    while (at_ < bytes_.size() && is_space(bytes_[at_])) ++at_;
-    const std::size_t start = at_;
-    while (at_ < bytes_.size() && !is_space(bytes_[at_])) ++at_;
-    return bytes_.substr(start, at_ - start);
-  }
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+  std::string_view word() { return file_text::next_word(bytes_, at_); }
   void parse_integer(std::string_view w, std::int64_t& out) {
-    const std::optional<long long> value = text_numbers::parse_integer(w);
+    const std::optional<long long> value = file_text::parse_integer(w);
     if (!value) bad(w);
     out = *value;
   }
   template <class T>
   void parse_decimal(std::string_view w, T& out) {
-    const std::optional<T> value = text_numbers::parse_decimal<T>(w);
+    const std::optional<T> value = file_text::parse_decimal<T>(w);
     if (!value) bad(w);
     out = *value;
   }
   [[noreturn]] void bad(std::string_view w) {
-    fail(path_, "PLY " + (element != nullptr ? *element : std::string("body")) + " " + std::to_string(index) + ": '" +
-                    std::string(w.substr(0, 40)) + "' is not a valid number");
+    fail(path_, "PLY " + (element != nullptr ? *element : std::string("body")) + " " + std::to_string(index) + ": " +
+                    quoted(w) + " is not a valid number");
   }
   const std::string& path_;
   std::string_view bytes_;
@@ -274,11 +264,11 @@ class AsciiBody {
 
 /// Reads every element of the body into `mesh`.
 template <class Body>
-void read_body(const std::string& path, Header& h, Body& body, PolygonMesh& mesh) {
+void read_body(const std::string& path, const Header& h, Body& body, PolygonMesh& mesh) {
   const auto ended = [&](const Element& e, std::uint64_t item) {
     fail(path, "PLY file ends inside " + e.name + " " + std::to_string(item) + " (of " + std::to_string(e.count) + ")");
   };
-  for (Element& e : h.elements) {
+  for (const Element& e : h.elements) {
     // The bytes an item takes at least: its scalars' and list counts' (binary), or one (ascii).
     std::size_t least = 0;
     for (const Property& p : e.properties) least += size_of(p.count_type.value_or(p.type));
@@ -336,7 +326,7 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
         (p.name == "x" ? has_x : p.name == "y" ? has_y : has_z) = true;
       }
       if (e.name == "face" && p.count_type && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
-        if (is_float(p.type)) fail(path, "PLY face corners ('" + p.name + "') must be of an integer type");
+        if (is_float(p.type)) fail(path, "PLY face corners (" + quoted(p.name) + ") must be of an integer type");
         p.role = Role::corners;
         corners = true;
       }

@@ -34,7 +34,7 @@ namespace meshlift {
 ///   binary item takes its fixed part's bytes, an ascii item a byte per property, at least), and
 ///   each list's count against the bytes left: memory stays within a small multiple of the file
 ///   size. An element of no properties takes no bytes, whatever its count: nothing is read.
-/// - Ascii numbers are read by text_numbers.h (shared with the other text formats).
+/// - Ascii numbers are read by file_text.h (shared with the other text formats).
 ///
 /// \throw MeshIOError "path: problem", naming the element, the item and the offending value,
 ///        e.g. "PLY face 12: a list claims 4294967295 entries, more than the 1000 bytes left in the file", or

@@ -1,7 +1,8 @@
 // STL, ascii and binary. See stl_reader.h.
 #include "stl_reader.h"
 
-#include "text_numbers.h"
+#include "exact_positions.h"
+#include "file_text.h"
 
 #include <algorithm>
 #include <array>
@@ -15,59 +16,26 @@
 namespace meshlift {
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) { throw MeshIOError(path + ": " + problem); }
+using file_text::fail;
+using file_text::quoted;
 
 using Point = std::array<float, 3>;
 
-/// Corners to vertices: equal points (as floats: -0 and +0 alike) are one vertex, numbered in
-/// the order of first use. A hash table over the points (open addressing, at most half full,
-/// grown as it fills); a slot holds a vertex + 1 (0: empty).
+/// Corners to vertices: corners at the same position (exact_positions.h) are one vertex,
+/// numbered in the order of first use.
 class Vertices {
  public:
-  explicit Vertices(std::size_t expected) { grow(std::bit_ceil(std::max<std::size_t>(2 * expected, 16))); }
+  explicit Vertices(std::size_t expected) : table_(expected) {}
   std::uint32_t of(const Point& p, PolygonMesh& mesh) {
-    if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) return add(p, mesh);  // equal to nothing
-    for (std::size_t i = hash(p) & mask_;; i = (i + 1) & mask_) {
-      if (slots_[i] == 0) {
-        const std::uint32_t v = add(p, mesh);
-        slots_[i] = v + 1;
-        if (2 * ++stored_ > slots_.size()) grow(2 * slots_.size());
-        return v;
-      }
-      const Point& q = points_[slots_[i] - 1];
-      if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2]) return slots_[i] - 1;
-    }
+    const auto v = static_cast<std::uint32_t>(mesh.vertex_count());
+    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
+    const std::uint32_t first = table_.first_at(mesh.positions, v);
+    if (first != v) mesh.positions.resize(3 * std::size_t{v});  // there already
+    return first;
   }
 
  private:
-  static std::uint64_t hash(const Point& p) {
-    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (const float x : p) {
-      h ^= std::bit_cast<std::uint32_t>(x + 0.0f);  // -0 + 0 = +0: alike
-      h *= 0xbf58476d1ce4e5b9ULL;
-      h ^= h >> 29;
-    }
-    return h;
-  }
-  std::uint32_t add(const Point& p, PolygonMesh& mesh) {
-    points_.push_back(p);
-    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
-    return static_cast<std::uint32_t>(points_.size() - 1);
-  }
-  void grow(std::size_t capacity) {
-    slots_.assign(capacity, 0);
-    mask_ = capacity - 1;
-    for (std::uint32_t v = 0; v < points_.size(); ++v) {
-      const Point& p = points_[v];
-      if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) continue;
-      std::size_t i = hash(p) & mask_;
-      while (slots_[i] != 0) i = (i + 1) & mask_;
-      slots_[i] = v + 1;
-    }
-  }
-  std::vector<std::uint32_t> slots_;
-  std::vector<Point> points_;
-  std::size_t mask_ = 0, stored_ = 0;
+  ExactPositions table_;
 };
 
 float little_endian_float(const char* b) {
@@ -103,17 +71,9 @@ bool is(std::string_view word, std::string_view keyword) {
          });
 }
 
-/// White space as isspace() has it in the C locale, without a call per byte.
-bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\f' || c == '\v'; }
-
 PolygonMesh read_ascii(const std::string& path, std::string_view text) {
   std::size_t at = 0;
-  auto word = [&]() -> std::string_view {
-    while (at < text.size() && is_space(text[at])) ++at;
-    const std::size_t start = at;
-    while (at < text.size() && !is_space(text[at])) ++at;
-    return text.substr(start, at - start);
-  };
+  auto word = [&] { return file_text::next_word(text, at); };
   // The rest of the current line (a solid's name).
   auto skip_line = [&] {
     while (at < text.size() && text[at] != '\n' && text[at] != '\r') ++at;
@@ -124,13 +84,7 @@ PolygonMesh read_ascii(const std::string& path, std::string_view text) {
   skip_line();
   for (std::size_t facet = 0;;) {
     const auto where = [&] { return "ascii STL facet " + std::to_string(facet); };
-    const auto found = [](std::string_view w) {
-      if (w.empty()) return std::string("the end of the file");
-      std::string quoted(1, '\'');  // appended piece by piece: GCC 12's false -Wrestrict (bug 105651)
-      quoted.append(w.substr(0, 40));
-      quoted.push_back('\'');
-      return quoted;
-    };
+    const auto found = [](std::string_view w) { return w.empty() ? std::string("the end of the file") : quoted(w); };
     const auto expect = [&](std::string_view expected) {
       const std::string_view w = word();
       if (!is(w, expected)) fail(path, where() + ": expected '" + std::string(expected) + "', found " + found(w));
@@ -156,8 +110,8 @@ PolygonMesh read_ascii(const std::string& path, std::string_view text) {
       expect("vertex");
       for (float& x : p) {
         const std::string_view number = word();
-        const std::optional<float> value = text_numbers::parse_decimal<float>(number);
-        if (!value) fail(path, where() + ": '" + std::string(number.substr(0, 40)) + "' is not a finite coordinate");
+        const std::optional<float> value = file_text::parse_decimal<float>(number);
+        if (!value) fail(path, where() + ": " + quoted(number) + " is not a finite coordinate");
         x = *value;
       }
     }

@@ -22,7 +22,7 @@ namespace meshlift {
 ///   of them) `endloop` `endfacet`, then `endsolid [name]` (optional at the end of the file),
 ///   perhaps followed by further solids (files of several parts: all are read). Keywords in any
 ///   letter case; words separated by any white space; coordinates parsed as 32-bit floats
-///   (text_numbers.h). A facet of other than three vertices, or a word out of place, is an error.
+///   (file_text.h). A facet of other than three vertices, or a word out of place, is an error.
 /// STL stores each triangle's corners apart: corners at exactly the same point (as floats, so
 /// -0 and +0 alike) are one vertex, numbered in the order of first use, as OpenMesh's reader
 /// numbers them. Normals and attributes are ignored. NaN and infinite binary coordinates are

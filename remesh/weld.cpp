@@ -1,9 +1,10 @@
 // Joining coincident vertices. See weld.h.
 #include "meshlift/weld.h"
 
+#include "exact_positions.h"
+
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
@@ -12,42 +13,12 @@
 namespace meshlift {
 
 std::vector<std::uint32_t> first_at_same_position(std::span<const double> p) {
+  // The vertices in index order through a table of the positions seen: each finds the first
+  // vertex at its position there, or is it.
   const std::size_t n = p.size() / 3;
   std::vector<std::uint32_t> into(n);
-  std::iota(into.begin(), into.end(), 0u);
-  // The finite vertices in index order through a hash table of the positions seen (open
-  // addressing, at most half full): each finds the first vertex at its position there, or is it.
-  // Expected linear time. A slot holds a vertex + 1 (0: empty) and 32 bits of its position's
-  // hash, so that a probe reads another vertex's coordinates only when those match.
-  const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(2 * n, 2));
-  const std::size_t mask = capacity - 1;
-  std::vector<std::uint64_t> table(capacity, 0);
-  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x + 0.0); };  // -0 + 0 = +0: alike
-  for (std::size_t v = 0; v < n; ++v) {
-    const double* q = &p[3 * v];
-    if (!(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]))) continue;
-    // splitmix64's finalizer over the three coordinates' bits.
-    std::uint64_t h = bits(q[0]);
-    for (const double x : {q[1], q[2]}) {
-      h ^= bits(x) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-      h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
-      h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
-      h ^= h >> 31;
-    }
-    const std::uint64_t tag = h >> 32;
-    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
-      const std::uint64_t entry = table[i];
-      if (entry == 0) {
-        table[i] = tag << 32 | (v + 1);
-        break;
-      }
-      const std::size_t u = (entry & 0xffffffffu) - 1;
-      if ((entry >> 32) == tag && p[3 * u] == q[0] && p[3 * u + 1] == q[1] && p[3 * u + 2] == q[2]) {
-        into[v] = static_cast<std::uint32_t>(u);
-        break;
-      }
-    }
-  }
+  ExactPositions table(n);
+  for (std::size_t v = 0; v < n; ++v) into[v] = table.first_at(p, static_cast<std::uint32_t>(v));
   return into;
 }
 

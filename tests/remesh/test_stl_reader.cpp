@@ -60,6 +60,15 @@ TEST_CASE("STL reader: binary corners merge by exact position, in the order of f
   }
 }
 
+TEST_CASE("STL reader: infinite corners are vertices of their own, as weld.h defines coincident", "[stl]") {
+  test::Scratch scratch("infinite");
+  const float inf = std::numeric_limits<float>::infinity();
+  const PolygonMesh m = read_mesh(scratch.write(
+      "inf.stl", binary_stl({{inf, 0, 0, 1, 0, 0, 0, 1, 0}, {inf, 0, 0, 0, 1, 0, 1, 0, 0}})));
+  CHECK(m.vertex_count() == 4);
+  CHECK(m.face_indices == std::vector<std::uint32_t>{0, 1, 2, 3, 2, 1});
+}
+
 TEST_CASE("STL reader: ascii facets, names, white space and line ends", "[stl]") {
   test::Scratch scratch("ascii");
   const std::string text =

@@ -1,12 +1,14 @@
-// See text_numbers.h.
-#include "text_numbers.h"
+// See file_text.h.
+#include "file_text.h"
+
+#include "meshlift/mesh_io.h"
 
 #include <charconv>
 #include <cmath>
 #include <limits>
 #include <system_error>
 
-namespace meshlift::text_numbers {
+namespace meshlift::file_text {
 namespace {
 
 /// Drops one leading '+' (which operator>> accepted and std::from_chars does not), unless a sign
@@ -17,6 +19,35 @@ std::string_view without_plus(std::string_view word) {
 }
 
 }  // namespace
+
+void fail(const std::string& path, const std::string& problem) { throw MeshIOError(path + ": " + problem); }
+
+std::string_view next_word(std::string_view text, std::size_t& at) {
+  while (at < text.size() && is_space(text[at])) ++at;
+  const std::size_t start = at;
+  while (at < text.size() && !is_space(text[at])) ++at;
+  return text.substr(start, at - start);
+}
+
+std::string_view without_byte_order_mark(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
+}
+
+std::string quoted(std::string_view text) {
+  // Appended piece by piece: GCC 12 reports a false -Wrestrict for "'" + std::string(...) (GCC bug 105651).
+  std::string result(1, '\'');
+  for (const char c : text.substr(0, 40)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      result.push_back(c);
+    } else {
+      const char* const hex = "0123456789abcdef";
+      result.append({'\\', 'x', hex[byte >> 4], hex[byte & 15]});
+    }
+  }
+  result.append(text.size() > 40 ? "...'" : "'");
+  return result;
+}
 
 std::optional<long long> parse_integer(std::string_view word) {
   word = without_plus(word);
@@ -52,4 +83,4 @@ std::optional<T> parse_decimal(std::string_view word) {
 template std::optional<float> parse_decimal<float>(std::string_view);
 template std::optional<double> parse_decimal<double>(std::string_view);
 
-}  // namespace meshlift::text_numbers
+}  // namespace meshlift::file_text
