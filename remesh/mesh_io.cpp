@@ -55,7 +55,7 @@ std::string random_suffix() {
 }
 
 
-/// The first `size` bytes of the file (read_off parses the whole file in memory).
+/// The first `size` bytes of the file (every reader parses the whole file in memory).
 std::string contents_of(const std::string& path, std::uintmax_t size) {
   std::ifstream in(path, std::ios::binary);
   std::string text(static_cast<std::size_t>(size), '\0');
@@ -78,10 +78,14 @@ PolygonMesh read_mesh(const std::string& path) {
     fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
   if (size == 0) fail(path, "file is empty");
 
-  PolygonMesh mesh = ext == "off"   ? read_off(path, contents_of(path, size))
-                     : ext == "ply" ? read_ply(path, contents_of(path, size))
-                     : ext == "obj" ? read_obj(path, contents_of(path, size))
-                                    : read_stl(path, contents_of(path, size));
+  PolygonMesh mesh;
+  {
+    const std::string bytes = contents_of(path, size);  // released once parsed
+    mesh = ext == "off"   ? read_off(path, bytes)
+           : ext == "ply" ? read_ply(path, bytes)
+           : ext == "obj" ? read_obj(path, bytes)
+                          : read_stl(path, bytes);
+  }
   if (mesh.vertex_count() == 0) fail(path, "file has no vertices");
   const std::size_t vertex_count = mesh.vertex_count();
   for (std::size_t f = 0; f < mesh.face_count(); ++f)

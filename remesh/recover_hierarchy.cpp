@@ -14,8 +14,8 @@
 // never a guess.
 #include <algorithm>
 #include <array>
-#include <optional>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
