@@ -186,11 +186,15 @@ int main(int argc, char** argv) {
   {
     // The wavelet `meshlift encode --scheme auto` takes on remeshes, butterfly (its normal lines
     // go through butterfly's prediction): the same mesh and budget, decoded. Its stencil rows are
-    // built per decode from the topology (8 sources each), Loop's read off the coarse faces.
+    // built per decode (8 sources each), above the base read off the level below as Loop's are.
     EncodeOptions butterfly;
     butterfly.scheme = Scheme::butterfly;
     DecodeResult r;
-    timed_decode(encode(mesh, butterfly), two_bpv, ", butterfly", r);
+    const std::string what = timed_decode(encode(mesh, butterfly), two_bpv, ", butterfly", r).second;
+    char line[96];
+    std::snprintf(line, sizeof line, "  %-22s %016llx\n", (what + " hash").c_str(),
+                  static_cast<unsigned long long>(output_hash(r)));
+    output_hashes += line;
   }
   std::printf("decoded output (positions and faces, FNV-1a):\n%s", output_hashes.c_str());
   {

@@ -151,10 +151,12 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
 
   try {
     // Without the finest level's faces until the end (the largest array; nothing reads it before)
-    // and without the stored coefficient tree (the Forest reads it off the topologies). For Loop,
-    // without the topology of level L - 1 either: its synthesis, its frames and the output faces
-    // read it off level L - 2 (a quarter of the size), and the Forest never reads it.
-    SemiRegularHierarchy h(std::move(base), header.levels, false, false, header.scheme != Scheme::loop);
+    // and without the stored coefficient tree (the Forest reads it off the topologies). Without
+    // the topology of level L - 1 either (but for the mean-preserving update's tables): the
+    // synthesis, the frames and the output faces read it off level L - 2 (a quarter of the
+    // size), and the Forest never reads it.
+    SemiRegularHierarchy h(std::move(base), header.levels, false, false,
+                           header.scheme != Scheme::loop && header.mean_preserving_update);
     // The base part, then the bit planes (FORMAT.md §5). A stream cut inside the base part
     // leaves the later base vertices at 0, and the bit planes then stop at their first decision.
     RangeDecoder decoder(stream.coefficients);

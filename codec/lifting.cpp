@@ -318,9 +318,14 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     apply_step<true>(step, values.data(), channels);
   };
   if (options.scheme != Scheme::loop && !options.mean_preserving_update) {
-    // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources.
+    // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources. Above the base its
+    // rows are read off the level below (a quarter of the size; the level's own topology is not
+    // needed).
     constexpr std::uint32_t kBlockRows = 8192;
-    stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, apply);
+    if (level == 0)
+      stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, apply);
+    else
+      stencils::refined_predict_blocks(hierarchy.topology(level - 1), options.scheme, kBlockRows, apply);
     return;
   }
   if (options.scheme != Scheme::loop || level == 0) {

@@ -585,6 +585,190 @@ void in_blocks(std::uint32_t first_target, std::uint32_t count, std::uint32_t ro
   }
 }
 
+/// The rows of predict(coarse.refined(), Scheme::butterfly), read off the coarse level by the 1:4
+/// rule (see loop_halves and loop_inner in stencils.h for how refined() numbers and orients the
+/// fine edges and faces): for each fine edge its endpoints a0, a1, and on each side (its first
+/// face, then its second) the vertex b opposite it and the tips across the two wings, at a0 then
+/// at a1, in butterfly_rows' order. A wing that is an inner edge has a centre or corner face
+/// across, whose third vertex is known; a wing that is the half of a coarse edge e' at corner x
+/// has across it the corner face at x of the coarse face on the other side of e', whose third
+/// vertex is the midpoint of that face's other edge at x. The rows that butterfly_rows writes
+/// straight are written straight here; the others replay butterfly_row's additions (its
+/// boundary, reflected-tip and extraordinary rules), with what they read of the fine level
+/// (valences, rings, boundary neighbours) taken from the coarse level: a coarse vertex keeps its
+/// valence and boundary, an odd vertex has valence 6, or 4 on the boundary, and is never
+/// extraordinary.
+class ButterflyRefinedRows {
+ public:
+  explicit ButterflyRefinedRows(const TriangleTopology& coarse) : t_(coarse), vertices_(coarse), V_(coarse.vertex_count) {}
+
+  /// The rows of the halves of coarse edges [begin, end): (a, m) then (m, b) for each.
+  void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+    const std::uint32_t regular = regular_pattern(step);
+    for (std::uint32_t e = begin; e < end; ++e) {
+      const std::uint32_t a = t_.edge_vertices[2 * e], b = t_.edge_vertices[2 * e + 1], m = V_ + e;
+      const std::uint32_t f0 = t_.edge_faces[2 * e], f1 = t_.edge_faces[2 * e + 1];
+      if (f1 == kNone) {
+        // A fine boundary edge: the 4-point rule over the fine boundary neighbours. At the coarse
+        // vertex that is the midpoint of its other coarse boundary edge, at m the far endpoint.
+        boundary_row(step, a, m, V_ + other_boundary_edge(a, e), b);
+        boundary_row(step, m, b, a, V_ + other_boundary_edge(b, e));
+        continue;
+      }
+      // f0 runs e as a -> b (its edge i0), f1 as b -> a (its edge i1); m_k below is the
+      // midpoint of a face's edge k.
+      const std::uint32_t i0 = edge_in_face(t_, f0, e), i1 = edge_in_face(t_, f1, e);
+      const std::uint32_t* fe0 = &t_.face_edges[3 * f0];
+      const std::uint32_t* fe1 = &t_.face_edges[3 * f1];
+      const std::uint32_t e0_next = fe0[(i0 + 1) % 3], e0_previous = fe0[(i0 + 2) % 3];
+      const std::uint32_t e1_next = fe1[(i1 + 1) % 3], e1_previous = fe1[(i1 + 2) % 3];
+      // (a, m): first face f0's corner face at a (a, m, m_{i0+2}), second f1's corner face at a
+      // (a, m_{i1+1}, m). The wings at m are inner edges with the centre faces across.
+      row(step, regular, e, a, m, {V_ + e0_previous, tip_across(e0_previous, f0, a), V_ + e0_next},
+          {V_ + e1_next, tip_across(e1_next, f1, a), V_ + e1_previous});
+      // (m, b): first f0's corner face at b (b, m_{i0+1}, m), second f1's (b, m, m_{i1+2}).
+      row(step, regular, e, m, b, {V_ + e0_next, V_ + e0_previous, tip_across(e0_next, f0, b)},
+          {V_ + e1_previous, V_ + e1_next, tip_across(e1_previous, f1, b)});
+    }
+  }
+
+  /// The rows of the inner edges of coarse faces [begin, end): inner edge i, m_{i+2} -> m_{i+1},
+  /// has first the corner face at c_{i+2} (b = c_{i+2}, wings the halves at c_{i+2} of edges i+2
+  /// and i+1), second the centre face (b = m_i, the corner faces at c_i and c_{i+1} across).
+  void inner(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+    const std::uint32_t regular = regular_pattern(step);
+    for (std::uint32_t f = begin; f < end; ++f) {
+      const std::uint32_t* c = &t_.triangles[3 * f];
+      const std::uint32_t* fe = &t_.face_edges[3 * f];
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        const std::uint32_t next = (i + 1) % 3, previous = (i + 2) % 3;
+        row(step, regular, kNone, V_ + fe[previous], V_ + fe[next],
+            {c[previous], tip_across(fe[previous], f, c[previous]), tip_across(fe[next], f, c[previous])},
+            {V_ + fe[i], c[i], c[next]});
+      }
+    }
+  }
+
+ private:
+  /// b, then the tips across the wings at a0 and at a1 (kNone: no face across).
+  struct Side {
+    std::uint32_t b, tip_a0, tip_a1;
+  };
+
+  std::uint32_t regular_pattern(StepWriter& step) {
+    const double weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
+    return step.pattern(1.0, weights);
+  }
+
+  /// The midpoint of the other edge at corner x of the coarse face across edge e from face f;
+  /// kNone if e is on the boundary.
+  std::uint32_t tip_across(std::uint32_t e, std::uint32_t f, std::uint32_t x) const {
+    const std::uint32_t g = other_face(t_, e, f);
+    if (g == kNone) return kNone;
+    const std::uint32_t i = edge_in_face(t_, g, e);
+    // Edge i runs c_i -> c_{i+1}: at c_i the other edge is i+2, at c_{i+1} it is i+1.
+    return V_ + t_.face_edges[3 * g + (t_.triangles[3 * g + i] == x ? (i + 2) % 3 : (i + 1) % 3)];
+  }
+
+  /// The boundary edge at coarse vertex v other than e.
+  std::uint32_t other_boundary_edge(std::uint32_t v, std::uint32_t e) const {
+    const VertexEdges& ve = vertices_.edges();
+    for (std::uint32_t k = ve.offsets[v]; k < ve.offsets[v + 1]; ++k) {
+      const std::uint32_t candidate = ve.edges[k];
+      if (candidate != e && t_.is_boundary_edge(candidate)) return candidate;
+    }
+    return kNone;  // not reached: build() refuses a boundary vertex with one boundary edge
+  }
+
+  /// Whether fine vertex v is extraordinary (only coarse vertices can be).
+  bool irregular(std::uint32_t v) const { return v < V_ && vertices_.irregular(v); }
+
+  /// butterfly_row's boundary rule: (-1, 9, 9, -1)/16 over (before, a0, a1, after).
+  void boundary_row(StepWriter& step, std::uint32_t a0, std::uint32_t a1, std::uint32_t beyond_a0, std::uint32_t beyond_a1) {
+    row_.add(a0, 9.0 / 16);
+    row_.add(a1, 9.0 / 16);
+    row_.add(beyond_a0, -1.0 / 16);
+    row_.add(beyond_a1, -1.0 / 16);
+    step.row(row_);
+    row_.clear();
+  }
+
+  /// The row of interior fine edge (a0, a1), a half of coarse edge `e` or an inner edge (e kNone).
+  void row(StepWriter& step, std::uint32_t regular, std::uint32_t e, std::uint32_t a0, std::uint32_t a1, Side first,
+           Side second) {
+    const std::uint32_t sources[8] = {a0, a1, first.b, first.tip_a0, first.tip_a1, second.b, second.tip_a0, second.tip_a1};
+    bool straight = !irregular(a0) && !irregular(a1);
+    for (int i = 2; i < 8 && straight; ++i) straight = sources[i] != kNone;
+    for (int i = 1; i < 8 && straight; ++i)
+      for (int k = 0; k < i; ++k) straight &= sources[i] != sources[k];
+    if (straight) [[likely]] {
+      step.row(regular, sources);
+      return;
+    }
+    if (!irregular(a0) && !irregular(a1)) {
+      // butterfly_row's regular rule, a missing tip across wing (x, b) replaced by x + b - y.
+      row_.add(a0, 0.5);
+      row_.add(a1, 0.5);
+      for (const Side& side : {first, second}) {
+        row_.add(side.b, 1.0 / 8);
+        for (const std::uint32_t x : {a0, a1}) {
+          const std::uint32_t tip = x == a0 ? side.tip_a0 : side.tip_a1;
+          if (tip != kNone) {
+            row_.add(tip, -1.0 / 16);
+          } else {
+            row_.add(x, -1.0 / 16);
+            row_.add(side.b, -1.0 / 16);
+            row_.add(x == a0 ? a1 : a0, 1.0 / 16);
+          }
+        }
+      }
+    } else {
+      // One extraordinary endpoint x, a coarse vertex (the other is the odd vertex m = V + e):
+      // 3/4 on x and s_i on its fine ring, the midpoints of its coarse edges in face order from
+      // e through e's first face, as ordered_ring walks the fine corner faces at x.
+      const std::uint32_t x = irregular(a0) ? a0 : a1;
+      const unsigned K = vertices_.valence(x);
+      const std::vector<double>& s = vertices_.ring_weights(K);
+      row_.add(x, 0.75);
+      std::uint32_t edge = e, f = t_.edge_faces[2 * e];
+      for (unsigned i = 0; i < K; ++i) {
+        row_.add(V_ + edge, s[i]);
+        // The other edge at x in face f, then the face across it.
+        const std::uint32_t k = edge_in_face(t_, f, edge);
+        edge = t_.face_edges[3 * f + (t_.triangles[3 * f + k] == x ? (k + 2) % 3 : (k + 1) % 3)];
+        f = other_face(t_, edge, f);
+      }
+    }
+    step.row(row_);
+    row_.clear();
+  }
+
+  const TriangleTopology& t_;
+  ButterflyVertices vertices_;
+  std::uint32_t V_;
+  RowBuilder row_;
+};
+
+/// The rows of predict(coarse.refined(), Scheme::linear) for the halves of coarse edges
+/// [begin, end), then (linear_inner_rows) for the inner edges of coarse faces [begin, end).
+void linear_half_rows(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
+  const double midpoint[] = {0.5, 0.5};
+  const std::uint32_t pattern = step.pattern(1.0, midpoint);
+  for (std::uint32_t e = begin; e < end; ++e) {
+    const std::uint32_t m = coarse.vertex_count + e;
+    step.row(pattern, {coarse.edge_vertices[2 * e], m});
+    step.row(pattern, {m, coarse.edge_vertices[2 * e + 1]});
+  }
+}
+void linear_inner_rows(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
+  const double midpoint[] = {0.5, 0.5};
+  const std::uint32_t pattern = step.pattern(1.0, midpoint);
+  const std::uint32_t V = coarse.vertex_count;
+  for (std::uint32_t f = begin; f < end; ++f)
+    for (std::uint32_t i = 0; i < 3; ++i)
+      step.row(pattern, {V + coarse.face_edges[3 * f + (i + 2) % 3], V + coarse.face_edges[3 * f + (i + 1) % 3]});
+}
+
 }  // namespace
 
 LiftingStep loop_predict_refined(const TriangleTopology& coarse, const TriangleTopology& fine) {
@@ -600,6 +784,26 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
   loop_update_even(step, pattern, coarse, fine.vertex_count);
   loop_update_odd(step, pattern, coarse, fine.vertex_count, 0, static_cast<std::uint32_t>(coarse.edge_count()));
   return step.finish();
+}
+
+void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
+                            const std::function<void(const LiftingStep&)>& apply) {
+  if (scheme == Scheme::loop) throw std::invalid_argument("refined_predict_blocks: linear or butterfly only");
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  const std::uint32_t first_odd = coarse.vertex_count + E, arity = static_cast<std::uint32_t>(predict_arity(scheme));
+  std::vector<std::uint32_t> buffer;
+  if (scheme == Scheme::linear) {
+    in_blocks(first_odd, E, 2, arity, block_rows, buffer, apply,
+              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { linear_half_rows(step, coarse, begin, end); });
+    in_blocks(first_odd + 2 * E, F, 3, arity, block_rows, buffer, apply,
+              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { linear_inner_rows(step, coarse, begin, end); });
+    return;
+  }
+  ButterflyRefinedRows rows(coarse);
+  in_blocks(first_odd, E, 2, arity, block_rows, buffer, apply,
+            [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.halves(step, begin, end); });
+  in_blocks(first_odd + 2 * E, F, 3, arity, block_rows, buffer, apply,
+            [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
 }
 
 void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,

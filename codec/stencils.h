@@ -23,6 +23,14 @@ LiftingStep predict(const TriangleTopology& topology, Scheme scheme);
 void predict_blocks(const TriangleTopology& topology, Scheme scheme, std::uint32_t block_rows,
                     const std::function<void(const LiftingStep&)>& apply);
 
+/// The rows of predict(coarse.refined(), scheme) for linear or butterfly, the same rows in the
+/// same order, read off the coarse level by the refinement rule (the fine level's topology is not
+/// needed), as consecutive blocks of about `block_rows` rows (the halves of block_rows / 2 coarse
+/// edges, or the inner edges of block_rows / 3 coarse faces), handed to `apply` one at a time in
+/// one reused buffer. \throw std::invalid_argument for Scheme::loop (loop_refined_blocks).
+void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
+                            const std::function<void(const LiftingStep&)>& apply);
+
 /// Loop's vertex rule written over the odd vertices (CODEC-NOTES §3): one row per even vertex,
 /// synthesis even' = s_n even + w_n sum(adjacent odd); boundary even' = even/2 + (odd_l + odd_r)/4.
 LiftingStep loop_update(const TriangleTopology& topology);

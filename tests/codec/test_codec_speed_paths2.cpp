@@ -127,8 +127,13 @@ TEST_CASE("butterfly rows written straight and a block at a time are the rule's 
           "[lifting]") {
   const TriangleMesh pillow{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1}};
   const TriangleMesh tetrahedron{{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}};
+  const TriangleMesh triangle{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}};
+  // A fan of five faces around vertex 0 with one gap: an interior-looking extraordinary corner
+  // that is on the boundary, next to interior extraordinary vertices after refinement.
+  const TriangleMesh open_fan{{0, 0, 0, 1, 0, 0, 0.5, 0.8, 0, -0.5, 0.8, 0, -1, 0, 0, -0.5, -0.8, 0, 0.5, -0.8, 0},
+                              {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6}};
   for (const TriangleMesh& base : {test::icosahedron(), test::grid(4), test::disk(5), test::bicone(3), test::bicone(4),
-                                   test::torus(), pillow, tetrahedron}) {
+                                   test::torus(), pillow, tetrahedron, triangle, open_fan}) {
     const SemiRegularHierarchy h(topology_of(base), 3);
     for (int j = 0; j < 3; ++j) {
       const TriangleTopology& t = h.topology(j);
@@ -146,10 +151,22 @@ TEST_CASE("butterfly rows written straight and a block at a time are the rule's 
             for (const auto& row : expand_rows(s)) blocks.push_back(row);
           });
           REQUIRE(blocks == whole);
+          if (j == 0) continue;
+          // The same rows read off the level below, without this level's topology.
+          std::vector<std::vector<double>> refined;
+          stencils::refined_predict_blocks(h.topology(j - 1), scheme, block_rows, [&](const LiftingStep& s) {
+            CHECK(s.row_count <= std::max(block_rows, 3u));
+            for (std::size_t k = s.indices.size() - LiftingStep::kPadding; k < s.indices.size(); ++k) REQUIRE(s.indices[k] == 0);
+            for (const auto& row : expand_rows(s)) refined.push_back(row);
+          });
+          INFO(to_string(scheme) << ", block rows " << block_rows);
+          REQUIRE(refined == whole);
         }
       }
     }
     CHECK_THROWS_AS(stencils::predict_blocks(h.topology(0), Scheme::loop, 64, [](const LiftingStep&) {}),
+                    std::invalid_argument);
+    CHECK_THROWS_AS(stencils::refined_predict_blocks(h.topology(0), Scheme::loop, 64, [](const LiftingStep&) {}),
                     std::invalid_argument);
   }
 }
@@ -181,11 +198,15 @@ TEST_CASE("a hierarchy without the topology below its finest level gives the sam
       frames::rotate_details(full, levels - 1, values, from_full, 4, frames::Direction::to_local);
       frames::rotate_details(lean, levels - 1, values, from_lean, 4, frames::Direction::to_local);
       REQUIRE(same_bits(from_full, from_lean));
-      // Loop synthesis of that level, which needs only its vertex count.
-      std::vector<double> synthesized_full = values, synthesized_lean = values;
-      synthesize_level(full, {Scheme::loop, false}, levels - 1, synthesized_full, 4);
-      synthesize_level(lean, {Scheme::loop, false}, levels - 1, synthesized_lean, 4);
-      REQUIRE(same_bits(synthesized_full, synthesized_lean));
+      // The synthesis of that level, which needs only its vertex count (but with the
+      // mean-preserving update, whose tables are built from its topology).
+      for (Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop}) {
+        std::vector<double> synthesized_full = values, synthesized_lean = values;
+        synthesize_level(full, {scheme, false}, levels - 1, synthesized_full, 4);
+        synthesize_level(lean, {scheme, false}, levels - 1, synthesized_lean, 4);
+        INFO(to_string(scheme));
+        REQUIRE(same_bits(synthesized_full, synthesized_lean));
+      }
       SemiRegularHierarchy released(topology_of(base), levels, false, false, false);
       REQUIRE(std::move(released).release_finest_triangles() == full.triangles(levels));
     }

@@ -114,8 +114,11 @@ class WaveletTransform {
 /// Loop above the base the predict step is applied as its rows are read off the coarse faces and
 /// the update step's rows are built and applied a block at a time in one small buffer; linear
 /// and butterfly without the mean-preserving update build and apply their rows a block at a time
-/// too. So those tables (18 to 36 bytes per vertex of level + 1) are never in memory, and each
-/// block is applied while it is in cache; the other cases build the level's tables.
+/// too, above the base read off the level below as Loop's are. So those tables (18 to 36 bytes per
+/// vertex of level + 1) are never in memory, and each block is applied while it is in cache; the
+/// other cases build the level's tables. Only those other cases (linear and butterfly with the
+/// mean-preserving update, and level 0) read topology(level): the rest need the hierarchy to hold
+/// levels up to level - 1 only.
 /// \pre 0 <= level < hierarchy.levels(); values hold vertex_count(level + 1) * channels doubles.
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels = 3);
