@@ -600,7 +600,25 @@ void in_blocks(std::uint32_t first_target, std::uint32_t count, std::uint32_t ro
 /// extraordinary.
 class ButterflyRefinedRows {
  public:
-  explicit ButterflyRefinedRows(const TriangleTopology& coarse) : t_(coarse), vertices_(coarse), V_(coarse.vertex_count) {}
+  explicit ButterflyRefinedRows(const TriangleTopology& coarse) : t_(coarse), vertices_(coarse), V_(coarse.vertex_count) {
+    // The tips across each face's edges, looked up once per face rather than once per row that
+    // reads them (four rows each): the face g across edge k of face f runs it the other way,
+    // as c_{k+1} -> c_k, as its edge i; at c_k the other edge of g is i+1, at c_{k+1} it is i+2.
+    const std::size_t F = coarse.face_count();
+    assign_large(across_, 6 * F);
+    for (std::uint32_t f = 0; f < F; ++f)
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t e = coarse.face_edges[3 * f + k], g = other_face(coarse, e, f);
+        std::uint32_t* out = &across_[6 * std::size_t{f} + 2 * k];
+        if (g == kNone) {
+          out[0] = out[1] = kNone;
+          continue;
+        }
+        const std::uint32_t i = edge_in_face(coarse, g, e);
+        out[0] = V_ + coarse.face_edges[3 * g + (i + 1) % 3];
+        out[1] = V_ + coarse.face_edges[3 * g + (i + 2) % 3];
+      }
+  }
 
   /// The rows of the halves of coarse edges [begin, end): (a, m) then (m, b) for each.
   void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
@@ -624,11 +642,15 @@ class ButterflyRefinedRows {
       const std::uint32_t e1_next = fe1[(i1 + 1) % 3], e1_previous = fe1[(i1 + 2) % 3];
       // (a, m): first face f0's corner face at a (a, m, m_{i0+2}), second f1's corner face at a
       // (a, m_{i1+1}, m). The wings at m are inner edges with the centre faces across.
-      row(step, regular, e, a, m, {V_ + e0_previous, tip_across(e0_previous, f0, a), V_ + e0_next},
-          {V_ + e1_next, tip_across(e1_next, f1, a), V_ + e1_previous});
+      // (a is the end of f0's edge i0 + 2 and the start of f1's edge i1 + 1; b the start of f0's
+      // edge i0 + 1 and the end of f1's edge i1 + 2.)
+      const std::uint32_t* across0 = &across_[6 * std::size_t{f0}];
+      const std::uint32_t* across1 = &across_[6 * std::size_t{f1}];
+      row(step, regular, e, a, m, {V_ + e0_previous, across0[2 * ((i0 + 2) % 3) + 1], V_ + e0_next},
+          {V_ + e1_next, across1[2 * ((i1 + 1) % 3)], V_ + e1_previous});
       // (m, b): first f0's corner face at b (b, m_{i0+1}, m), second f1's (b, m, m_{i1+2}).
-      row(step, regular, e, m, b, {V_ + e0_next, V_ + e0_previous, tip_across(e0_next, f0, b)},
-          {V_ + e1_previous, V_ + e1_next, tip_across(e1_previous, f1, b)});
+      row(step, regular, e, m, b, {V_ + e0_next, V_ + e0_previous, across0[2 * ((i0 + 1) % 3)]},
+          {V_ + e1_previous, V_ + e1_next, across1[2 * ((i1 + 2) % 3) + 1]});
     }
   }
 
@@ -640,10 +662,11 @@ class ButterflyRefinedRows {
     for (std::uint32_t f = begin; f < end; ++f) {
       const std::uint32_t* c = &t_.triangles[3 * f];
       const std::uint32_t* fe = &t_.face_edges[3 * f];
+      const std::uint32_t* across = &across_[6 * std::size_t{f}];
       for (std::uint32_t i = 0; i < 3; ++i) {
+        // c_{i+2} is the start of edge i+2 and the end of edge i+1.
         const std::uint32_t next = (i + 1) % 3, previous = (i + 2) % 3;
-        row(step, regular, kNone, V_ + fe[previous], V_ + fe[next],
-            {c[previous], tip_across(fe[previous], f, c[previous]), tip_across(fe[next], f, c[previous])},
+        row(step, regular, kNone, V_ + fe[previous], V_ + fe[next], {c[previous], across[2 * previous], across[2 * next + 1]},
             {V_ + fe[i], c[i], c[next]});
       }
     }
@@ -658,16 +681,6 @@ class ButterflyRefinedRows {
   std::uint32_t regular_pattern(StepWriter& step) {
     const double weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
     return step.pattern(1.0, weights);
-  }
-
-  /// The midpoint of the other edge at corner x of the coarse face across edge e from face f;
-  /// kNone if e is on the boundary.
-  std::uint32_t tip_across(std::uint32_t e, std::uint32_t f, std::uint32_t x) const {
-    const std::uint32_t g = other_face(t_, e, f);
-    if (g == kNone) return kNone;
-    const std::uint32_t i = edge_in_face(t_, g, e);
-    // Edge i runs c_i -> c_{i+1}: at c_i the other edge is i+2, at c_{i+1} it is i+1.
-    return V_ + t_.face_edges[3 * g + (t_.triangles[3 * g + i] == x ? (i + 2) % 3 : (i + 1) % 3)];
   }
 
   /// The boundary edge at coarse vertex v other than e.
@@ -694,17 +707,22 @@ class ButterflyRefinedRows {
   }
 
   /// The row of interior fine edge (a0, a1), a half of coarse edge `e` or an inner edge (e kNone).
-  void row(StepWriter& step, std::uint32_t regular, std::uint32_t e, std::uint32_t a0, std::uint32_t a1, Side first,
-           Side second) {
+  [[gnu::always_inline]] void row(StepWriter& step, std::uint32_t regular, std::uint32_t e, std::uint32_t a0,
+                                  std::uint32_t a1, const Side& first, const Side& second) {
     const std::uint32_t sources[8] = {a0, a1, first.b, first.tip_a0, first.tip_a1, second.b, second.tip_a0, second.tip_a1};
     bool straight = !irregular(a0) && !irregular(a1);
-    for (int i = 2; i < 8 && straight; ++i) straight = sources[i] != kNone;
-    for (int i = 1; i < 8 && straight; ++i)
+    for (int i = 2; i < 8; ++i) straight &= sources[i] != kNone;
+    for (int i = 1; i < 8; ++i)
       for (int k = 0; k < i; ++k) straight &= sources[i] != sources[k];
-    if (straight) [[likely]] {
+    if (straight) [[likely]]
       step.row(regular, sources);
-      return;
-    }
+    else
+      rule_row(step, e, a0, a1, first, second);
+  }
+
+  /// The same where the row is not the regular one: butterfly_row's other rules.
+  [[gnu::noinline]] void rule_row(StepWriter& step, std::uint32_t e, std::uint32_t a0, std::uint32_t a1, const Side& first,
+                                  const Side& second) {
     if (!irregular(a0) && !irregular(a1)) {
       // butterfly_row's regular rule, a missing tip across wing (x, b) replaced by x + b - y.
       row_.add(a0, 0.5);
@@ -746,6 +764,10 @@ class ButterflyRefinedRows {
   const TriangleTopology& t_;
   ButterflyVertices vertices_;
   std::uint32_t V_;
+  // across_[6f + 2k + s]: the midpoint of the other edge, at corner c_{k+s} of face f, of the face
+  // across f's edge k (kNone on the boundary): the tip across a wing that is the half of edge k
+  // at c_{k+s}.
+  std::vector<std::uint32_t> across_;
   RowBuilder row_;
 };
 
