@@ -17,18 +17,23 @@ namespace {
 using namespace vec3;  // Vec3, at, sub, dot, cross
 using Vec = Vec3;
 
-/// Sign of the volume of tetrahedron (a, b, c, d): det[b - a, c - a, d - a], positive when d is
-/// on the side of abc's plane that abc's counter-clockwise normal points to.
-int orient(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
-  const double v = dot(cross(sub(b, a), sub(c, a)), sub(d, a));
-  return (v > 0) - (v < 0);
-}
+/// Sign of x.
+int sign(double x) { return (x > 0) - (x < 0); }
 
-/// Segment pq crosses the inside of triangle abc (strictly: no touching).
-bool crosses(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c) {
-  const int sp = orient(a, b, c, p), sq = orient(a, b, c, q);
+/// The orientation of tetrahedra (a, b, c, d) for one triangle abc and several points d: the sign
+/// of det[b - a, c - a, d - a] = (b - a) × (c - a) · (d - a), positive when d is on the side of
+/// abc's plane that abc's counter-clockwise normal points to. The normal is computed once.
+struct Plane {
+  Vec a, normal;
+  Plane(const Vec& a_, const Vec& b, const Vec& c) : a(a_), normal(cross(sub(b, a_), sub(c, a_))) {}
+  int side(const Vec& d) const { return sign(dot(normal, sub(d, a))); }
+};
+
+/// Segment pq crosses the inside of triangle abc (strictly: no touching), given the sides sp,
+/// sq of p and q against abc's plane.
+bool crosses(int sp, int sq, const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c) {
   if (sp == 0 || sq == 0 || sp == sq) return false;
-  const int s1 = orient(p, q, a, b), s2 = orient(p, q, b, c), s3 = orient(p, q, c, a);
+  const int s1 = Plane(p, q, a).side(b), s2 = Plane(p, q, b).side(c), s3 = Plane(p, q, c).side(a);
   return s1 != 0 && s1 == s2 && s2 == s3;
 }
 
@@ -44,17 +49,29 @@ struct Collide {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         if (s[i] == t[j]) ++shared, is = i, it = j;
+    if (shared >= 2) return false;
     const std::vector<double>& x = mesh->positions;
     const Vec S[3] = {at(x, s[0]), at(x, s[1]), at(x, s[2])}, T[3] = {at(x, t[0]), at(x, t[1]), at(x, t[2])};
+    // Each corner's side of the other triangle's plane, once (an edge crosses a triangle only
+    // between corners on strictly opposite sides: most box pairs end here).
+    const Plane s_plane(S[0], S[1], S[2]), t_plane(T[0], T[1], T[2]);
+    const int s_side[3] = {t_plane.side(S[0]), t_plane.side(S[1]), t_plane.side(S[2])};
+    const int t_side[3] = {s_plane.side(T[0]), s_plane.side(T[1]), s_plane.side(T[2])};
+    auto s_edge_crosses_t = [&](int i) {
+      const int j = (i + 1) % 3;
+      return crosses(s_side[i], s_side[j], S[i], S[j], T[0], T[1], T[2]);
+    };
+    auto t_edge_crosses_s = [&](int i) {
+      const int j = (i + 1) % 3;
+      return crosses(t_side[i], t_side[j], T[i], T[j], S[0], S[1], S[2]);
+    };
     if (shared == 0) {
       for (int i = 0; i < 3; ++i)
-        if (crosses(S[i], S[(i + 1) % 3], T[0], T[1], T[2]) || crosses(T[i], T[(i + 1) % 3], S[0], S[1], S[2])) return true;
+        if (s_edge_crosses_t(i) || t_edge_crosses_s(i)) return true;
       return false;
     }
-    if (shared == 1)  // the edges opposite the common corner
-      return crosses(S[(is + 1) % 3], S[(is + 2) % 3], T[0], T[1], T[2]) ||
-             crosses(T[(it + 1) % 3], T[(it + 2) % 3], S[0], S[1], S[2]);
-    return false;
+    // One common corner: the edges opposite it.
+    return s_edge_crosses_t((is + 1) % 3) || t_edge_crosses_s((it + 1) % 3);
   }
 };
 

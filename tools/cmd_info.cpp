@@ -105,18 +105,22 @@ int run_info(const InfoOptions& options) {
   std::cout << (options.json ? to_json(report) : to_text(report));
   if (options.json || report.invalid_index_faces > 0) return kOk;
   TriangleMesh triangles;
+  MeshReport triangle_report;
   if (report.non_triangle_faces > 0) {
     // What encode and remesh take: the polygons split into triangles (triangulate.h).
     Triangulation t = triangulate(*mesh);
-    const std::string problem = first_problem_for_triangle_codec(validate_mesh(t.mesh));
+    triangle_report = validate_mesh(t.mesh);
+    const std::string problem = first_problem_for_triangle_codec(triangle_report);
     std::cout << "as encode takes it:      " << describe(t) << "; triangle codec "
               << (problem.empty() ? std::string("ok") : problem) << "\n";
     triangles = std::move(t.mesh);
   } else {
+    // The same faces: the report above is theirs (validate_mesh of a TriangleMesh validates it
+    // as a PolygonMesh).
     triangles = to_triangle_mesh(*mesh);
+    triangle_report = std::move(report);
   }
   // Which of remesh's and encode's input repairs would help (coincident vertices, faces turned).
-  const MeshReport triangle_report = validate_mesh(triangles);
   const RepairAdvice advice = repair_advice(triangles, triangle_report);
   if (!advice.flags.empty())
     std::cout << "with " << advice.flags << ":" << std::string(advice.flags.size() < 19 ? 19 - advice.flags.size() : 1, ' ')
