@@ -72,7 +72,9 @@ WaveletTransform::WaveletTransform(const SemiRegularHierarchy& hierarchy, Wavele
       steps.push_back(coarse ? stencils::loop_update_refined(*coarse, t) : stencils::loop_update(t));
       continue;
     }
-    LiftingStep predict = stencils::predict(t, options.scheme);
+    // Above the base, read off the level below too (a quarter of the random reads).
+    LiftingStep predict = j > 0 ? stencils::refined_predict(hierarchy.topology(j - 1), options.scheme)
+                                : stencils::predict(t, options.scheme);
     if (options.mean_preserving_update) {
       steps.push_back(stencils::mean_preserving_update(t, predict));
       steps.push_back(std::move(predict));

@@ -808,6 +808,21 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
   return step.finish();
 }
 
+LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
+  if (scheme == Scheme::loop) throw std::invalid_argument("refined_predict: linear or butterfly only");
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  StepWriter step(coarse.vertex_count + E, predict_arity(scheme) * (2 * std::size_t{E} + 3 * std::size_t{F}));
+  if (scheme == Scheme::linear) {
+    linear_half_rows(step, coarse, 0, E);
+    linear_inner_rows(step, coarse, 0, F);
+  } else {
+    ButterflyRefinedRows rows(coarse);
+    rows.halves(step, 0, E);
+    rows.inner(step, 0, F);
+  }
+  return step.finish();
+}
+
 void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
                             const std::function<void(const LiftingStep&)>& apply) {
   if (scheme == Scheme::loop) throw std::invalid_argument("refined_predict_blocks: linear or butterfly only");

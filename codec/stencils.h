@@ -30,6 +30,9 @@ void predict_blocks(const TriangleTopology& topology, Scheme scheme, std::uint32
 /// one reused buffer. \throw std::invalid_argument for Scheme::loop (loop_refined_blocks).
 void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
                             const std::function<void(const LiftingStep&)>& apply);
+/// The same rows as one step: predict(coarse.refined(), scheme), read off the coarse level.
+/// \throw std::invalid_argument for Scheme::loop (loop_predict_refined).
+LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
 
 /// Loop's vertex rule written over the odd vertices (CODEC-NOTES §3): one row per even vertex,
 /// synthesis even' = s_n even + w_n sum(adjacent odd); boundary even' = even/2 + (odd_l + odd_r)/4.

@@ -161,6 +161,7 @@ TEST_CASE("butterfly rows written straight and a block at a time are the rule's 
           });
           INFO(to_string(scheme) << ", block rows " << block_rows);
           REQUIRE(refined == whole);
+          REQUIRE(expand_rows(stencils::refined_predict(h.topology(j - 1), scheme)) == whole);
         }
       }
     }
@@ -168,6 +169,7 @@ TEST_CASE("butterfly rows written straight and a block at a time are the rule's 
                     std::invalid_argument);
     CHECK_THROWS_AS(stencils::refined_predict_blocks(h.topology(0), Scheme::loop, 64, [](const LiftingStep&) {}),
                     std::invalid_argument);
+    CHECK_THROWS_AS(stencils::refined_predict(h.topology(0), Scheme::loop), std::invalid_argument);
   }
 }
 
