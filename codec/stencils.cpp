@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -690,7 +691,8 @@ class ButterflyRefinedRows {
       const std::uint32_t candidate = ve.edges[k];
       if (candidate != e && t_.is_boundary_edge(candidate)) return candidate;
     }
-    return kNone;  // not reached: build() refuses a boundary vertex with one boundary edge
+    // build() refuses a pinched vertex, so a boundary vertex has two boundary edges.
+    throw std::logic_error("butterfly rows: boundary vertex " + std::to_string(v) + " has one boundary edge");
   }
 
   /// Whether fine vertex v is extraordinary (only coarse vertices can be).
