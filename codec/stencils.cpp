@@ -241,55 +241,6 @@ class ButterflyVertices {
   std::vector<std::vector<double>> ring_weights_;
 };
 
-void butterfly_row(const TriangleTopology& t, ButterflyVertices& vertices, std::uint32_t e, RowBuilder& row,
-                   std::vector<std::uint32_t>& ring) {
-  const std::uint32_t a0 = t.edge_vertices[2 * e], a1 = t.edge_vertices[2 * e + 1];
-  if (t.is_boundary_edge(e)) {
-    // Boundary: 4-point rule (-1, 9, 9, -1)/16 along the boundary polyline (Dyn, Levin, Gregory 1987).
-    row.add(a0, 9.0 / 16);
-    row.add(a1, 9.0 / 16);
-    row.add(boundary_neighbour(t, vertices.edges(), a0, a1), -1.0 / 16);
-    row.add(boundary_neighbour(t, vertices.edges(), a1, a0), -1.0 / 16);
-    return;
-  }
-  if (!vertices.irregular(a0) && !vertices.irregular(a1)) {
-    // Regular 8-point butterfly: (a0+a1)/2 + (b0+b1)/8 - (c0+c1+c2+c3)/16 (seed 003 §5.3.2).
-    // A tip c across a boundary wing edge (x, b) of face (x, b, y) is missing; like OpenMesh's
-    // ModifiedButterFlyT we use its reflection x + b - y, which keeps linear reproduction.
-    row.add(a0, 0.5);
-    row.add(a1, 0.5);
-    for (int side = 0; side < 2; ++side) {
-      const std::uint32_t f = t.edge_faces[2 * e + side];
-      const std::uint32_t b = t.opposite_vertex(f, e);
-      row.add(b, 1.0 / 8);
-      for (const std::uint32_t x : {a0, a1}) {
-        const std::uint32_t y = x == a0 ? a1 : a0;
-        const std::uint32_t wing = face_edge(t, f, x, b);
-        const std::uint32_t across = other_face(t, wing, f);
-        if (across != kNone) {
-          row.add(t.opposite_vertex(across, wing), -1.0 / 16);
-        } else {
-          row.add(x, -1.0 / 16);
-          row.add(b, -1.0 / 16);
-          row.add(y, 1.0 / 16);
-        }
-      }
-    }
-    return;
-  }
-  // Extraordinary endpoint(s): 3/4 on the vertex and s_i on its ring, ring index 0 at the edge's
-  // other endpoint; averaged when both endpoints are extraordinary (Zorin et al. 1996).
-  const double share = vertices.irregular(a0) && vertices.irregular(a1) ? 0.5 : 1.0;
-  for (const std::uint32_t x : {a0, a1}) {
-    if (!vertices.irregular(x)) continue;
-    const unsigned K = vertices.valence(x);
-    ordered_ring(t, x, x == a0 ? a1 : a0, e, K, ring);
-    const std::vector<double>& s = vertices.ring_weights(K);
-    row.add(x, share * 0.75);
-    for (unsigned i = 0; i < K; ++i) row.add(ring[i], share * s[i]);
-  }
-}
-
 /// Appends one row per vertex v < `vertices`: the sources source(e, k) of the edges e of
 /// `topology` with v as endpoint k (edge_vertices[2e + k]), in ascending e; all of them, or for a
 /// vertex on the boundary, if `boundary_rows_take_boundary_edges`, only its boundary edges.
@@ -369,48 +320,137 @@ std::uint32_t opposite(const TriangleTopology& t, std::uint32_t f, std::uint32_t
   return t.triangles[3 * f + (edge_in_face(t, f, e) + 2) % 3];
 }
 
-/// The rows of predict(t, Scheme::butterfly) for edges [begin, end). An interior edge between
-/// two regular vertices whose four wings all have a face across, and whose eight sources are
-/// distinct (all but the smallest meshes), is the regular row: written straight, with the
-/// sources in butterfly_row's order (a0, a1, then per side its b and the tips across the wings
-/// at a0 and at a1). Every other row is built by butterfly_row.
+/// The edge of face f other than e at its corner x (an endpoint of e): edge i runs c_i -> c_{i+1},
+/// so at c_i the other edge is i+2, at c_{i+1} it is i+1.
+std::uint32_t other_edge_at(const TriangleTopology& t, std::uint32_t f, std::uint32_t e, std::uint32_t x) {
+  const std::uint32_t i = edge_in_face(t, f, e);
+  return t.face_edges[3 * f + (t.triangles[3 * f + i] == x ? (i + 2) % 3 : (i + 1) % 3)];
+}
+
+// Butterfly's rules (CODEC-NOTES §2), each stated once, for the rows read off a level's own
+// topology (butterfly_rows) and off the level below (ButterflyRefinedRows), which gather their
+// sources differently and hand them over here in the same order.
+
+/// One side of an interior edge (a0, a1): b, the vertex of that face opposite the edge, then the
+/// tips across its wings (b, a0) and (a1, b), the third vertices of the faces beyond them (kNone
+/// where a wing is on the boundary).
+struct ButterflySide {
+  std::uint32_t b, tip_a0, tip_a1;
+};
+
+/// The regular 8-point row (a0+a1)/2 + (b0+b1)/8 - (c0+c1+c2+c3)/16 (seed 003 §5.3.2), sources
+/// a0, a1, then each side's b, tip_a0, tip_a1.
+std::uint32_t butterfly_regular_pattern(StepWriter& step) {
+  const double weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
+  return step.pattern(1.0, weights);
+}
+
+/// A boundary edge: the 4-point rule (-1, 9, 9, -1)/16 along the boundary polyline (Dyn, Levin,
+/// Gregory 1987); beyond_a0 and beyond_a1 are the boundary neighbours of a0 and a1 other than each
+/// other.
+void butterfly_boundary_row(StepWriter& step, RowBuilder& row, std::uint32_t a0, std::uint32_t a1, std::uint32_t beyond_a0,
+                            std::uint32_t beyond_a1) {
+  row.add(a0, 9.0 / 16);
+  row.add(a1, 9.0 / 16);
+  row.add(beyond_a0, -1.0 / 16);
+  row.add(beyond_a1, -1.0 / 16);
+  step.row(row);
+  row.clear();
+}
+
+/// The regular rule source by source where the row cannot be written straight: a tip c missing
+/// across a boundary wing (x, b) of face (x, b, y) is replaced, like OpenMesh's
+/// ModifiedButterFlyT, by its reflection x + b - y, which keeps linear reproduction; repeated
+/// sources are merged.
+[[gnu::noinline]] void butterfly_reflected_row(StepWriter& step, RowBuilder& row, std::uint32_t a0, std::uint32_t a1,
+                                               const ButterflySide& first, const ButterflySide& second) {
+  row.add(a0, 0.5);
+  row.add(a1, 0.5);
+  for (const ButterflySide& side : {first, second}) {
+    row.add(side.b, 1.0 / 8);
+    for (const std::uint32_t x : {a0, a1}) {
+      const std::uint32_t tip = x == a0 ? side.tip_a0 : side.tip_a1;
+      if (tip != kNone) {
+        row.add(tip, -1.0 / 16);
+      } else {
+        row.add(x, -1.0 / 16);
+        row.add(side.b, -1.0 / 16);
+        row.add(x == a0 ? a1 : a0, 1.0 / 16);
+      }
+    }
+  }
+  step.row(row);
+  row.clear();
+}
+
+/// An interior edge between two vertices that are not extraordinary: the regular row, written
+/// straight (`regular`: butterfly_regular_pattern) where its eight sources exist and are distinct
+/// (all but the smallest meshes), else butterfly_reflected_row.
+[[gnu::always_inline]] inline void butterfly_regular_row(StepWriter& step, std::uint32_t regular, RowBuilder& row,
+                                                         std::uint32_t a0, std::uint32_t a1, const ButterflySide& first,
+                                                         const ButterflySide& second) {
+  const std::uint32_t sources[8] = {a0, a1, first.b, first.tip_a0, first.tip_a1, second.b, second.tip_a0, second.tip_a1};
+  bool straight = true;
+  for (int i = 2; i < 8; ++i) straight &= sources[i] != kNone;
+  for (int i = 1; i < 8; ++i)
+    for (int k = 0; k < i; ++k) straight &= sources[i] != sources[k];
+  if (straight) [[likely]]
+    step.row(regular, sources);
+  else
+    butterfly_reflected_row(step, row, a0, a1, first, second);
+}
+
+/// The terms of an extraordinary endpoint x (interior, valence K != 6): 3/4 on x and s_i
+/// (butterfly_ring_weights(K)) on its ring, ring[0] at the edge's other endpoint, in face order
+/// (Zorin, Schroeder, Sweldens 1996); `share` 1/2 each where both endpoints are extraordinary.
+void butterfly_extraordinary_terms(RowBuilder& row, std::uint32_t x, std::span<const std::uint32_t> ring, double share,
+                                   const std::vector<double>& s) {
+  row.add(x, share * 0.75);
+  for (std::size_t i = 0; i < ring.size(); ++i) row.add(ring[i], share * s[i]);
+}
+
+/// The rows of predict(t, Scheme::butterfly) for edges [begin, end), read off t: a boundary edge
+/// by the 4-point rule, an edge with an extraordinary endpoint by the ring rule, any other by
+/// butterfly_regular_row.
 void butterfly_rows(StepWriter& step, const TriangleTopology& t, ButterflyVertices& vertices, std::uint32_t begin,
                     std::uint32_t end) {
-  const double regular_weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
-  const std::uint32_t regular = step.pattern(1.0, regular_weights);
+  const std::uint32_t regular = butterfly_regular_pattern(step);
   RowBuilder row;
   std::vector<std::uint32_t> ring;
   for (std::uint32_t e = begin; e < end; ++e) {
     const std::uint32_t a0 = t.edge_vertices[2 * e], a1 = t.edge_vertices[2 * e + 1];
-    if (t.edge_faces[2 * e + 1] != kNone && !vertices.irregular(a0) && !vertices.irregular(a1)) {
-      std::uint32_t sources[8] = {a0, a1};
-      bool regular_row = true;
-      for (std::uint32_t side = 0; side < 2; ++side) {
-        // Face f has e as its edge i, corners c_i -> c_{i+1}: (a0, a1) on side 0, (a1, a0) on
-        // side 1. Face edge i+1 joins c_{i+1} and b = c_{i+2}, face edge i+2 joins b and c_i.
-        const std::uint32_t f = t.edge_faces[2 * e + side], i = edge_in_face(t, f, e);
-        const std::uint32_t next = 3 * f + (i + 1) % 3, previous = 3 * f + (i + 2) % 3;
-        sources[2 + 3 * side] = t.triangles[previous];
-        const std::uint32_t wings[2] = {t.face_edges[side == 0 ? previous : next], t.face_edges[side == 0 ? next : previous]};
-        for (std::uint32_t k = 0; k < 2; ++k) {
-          const std::uint32_t across = other_face(t, wings[k], f);
-          if (across == kNone) {
-            regular_row = false;
-            break;
-          }
-          sources[3 + 3 * side + k] = opposite(t, across, wings[k]);
-        }
-      }
-      for (int i = 1; i < 8 && regular_row; ++i)
-        for (int k = 0; k < i; ++k) regular_row &= sources[i] != sources[k];
-      if (regular_row) [[likely]] {
-        step.row(regular, sources);
-        continue;
-      }
+    if (t.is_boundary_edge(e)) [[unlikely]] {
+      butterfly_boundary_row(step, row, a0, a1, boundary_neighbour(t, vertices.edges(), a0, a1),
+                             boundary_neighbour(t, vertices.edges(), a1, a0));
+      continue;
     }
-    butterfly_row(t, vertices, e, row, ring);
-    step.row(row);
-    row.clear();
+    if (vertices.irregular(a0) || vertices.irregular(a1)) [[unlikely]] {
+      const double share = vertices.irregular(a0) && vertices.irregular(a1) ? 0.5 : 1.0;
+      for (const std::uint32_t x : {a0, a1}) {
+        if (!vertices.irregular(x)) continue;
+        const unsigned K = vertices.valence(x);
+        ordered_ring(t, x, x == a0 ? a1 : a0, e, K, ring);
+        butterfly_extraordinary_terms(row, x, ring, share, vertices.ring_weights(K));
+      }
+      step.row(row);
+      row.clear();
+      continue;
+    }
+    ButterflySide sides[2];
+    for (std::uint32_t side = 0; side < 2; ++side) {
+      // Face f has e as its edge i, corners c_i -> c_{i+1}: (a0, a1) on side 0, (a1, a0) on
+      // side 1. Face edge i+1 joins c_{i+1} and b = c_{i+2}, face edge i+2 joins b and c_i.
+      const std::uint32_t f = t.edge_faces[2 * e + side], i = edge_in_face(t, f, e);
+      const std::uint32_t next = 3 * f + (i + 1) % 3, previous = 3 * f + (i + 2) % 3;
+      const std::uint32_t wings[2] = {t.face_edges[side == 0 ? previous : next], t.face_edges[side == 0 ? next : previous]};
+      std::uint32_t tips[2];
+      for (std::uint32_t k = 0; k < 2; ++k) {
+        const std::uint32_t across = other_face(t, wings[k], f);
+        tips[k] = across == kNone ? kNone : opposite(t, across, wings[k]);
+      }
+      sides[side] = {t.triangles[previous], tips[0], tips[1]};
+    }
+    butterfly_regular_row(step, regular, row, a0, a1, sides[0], sides[1]);
   }
 }
 
@@ -590,48 +630,40 @@ void in_blocks(std::uint32_t first_target, std::uint32_t count, std::uint32_t ro
 /// rule (see loop_halves and loop_inner in stencils.h for how refined() numbers and orients the
 /// fine edges and faces): for each fine edge its endpoints a0, a1, and on each side (its first
 /// face, then its second) the vertex b opposite it and the tips across the two wings, at a0 then
-/// at a1, in butterfly_rows' order. A wing that is an inner edge has a centre or corner face
-/// across, whose third vertex is known; a wing that is the half of a coarse edge e' at corner x
-/// has across it the corner face at x of the coarse face on the other side of e', whose third
-/// vertex is the midpoint of that face's other edge at x. The rows that butterfly_rows writes
-/// straight are written straight here; the others replay butterfly_row's additions (its
-/// boundary, reflected-tip and extraordinary rules), with what they read of the fine level
-/// (valences, rings, boundary neighbours) taken from the coarse level: a coarse vertex keeps its
-/// valence and boundary, an odd vertex has valence 6, or 4 on the boundary, and is never
-/// extraordinary.
+/// at a1, as butterfly_rows gathers them, handed to the same rules. A wing that is an inner edge
+/// has a centre or corner face across, whose third vertex is known; a wing that is the half of a
+/// coarse edge e' at corner x has across it the corner face at x of the coarse face on the other
+/// side of e', whose third vertex is the midpoint of that face's other edge at x. What the rules
+/// read of the fine level (valences, rings, boundary neighbours) comes from the coarse level: a
+/// coarse vertex keeps its valence and boundary, an odd vertex has valence 6, or 4 on the
+/// boundary, and is never extraordinary.
 class ButterflyRefinedRows {
  public:
   explicit ButterflyRefinedRows(const TriangleTopology& coarse) : t_(coarse), vertices_(coarse), V_(coarse.vertex_count) {
     // The tips across each face's edges, looked up once per face rather than once per row that
-    // reads them (four rows each): the face g across edge k of face f runs it the other way,
-    // as c_{k+1} -> c_k, as its edge i; at c_k the other edge of g is i+1, at c_{k+1} it is i+2.
+    // reads them (four rows each).
     const std::size_t F = coarse.face_count();
     assign_large(across_, 6 * F);
     for (std::uint32_t f = 0; f < F; ++f)
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t e = coarse.face_edges[3 * f + k], g = other_face(coarse, e, f);
         std::uint32_t* out = &across_[6 * std::size_t{f} + 2 * k];
-        if (g == kNone) {
-          out[0] = out[1] = kNone;
-          continue;
-        }
-        const std::uint32_t i = edge_in_face(coarse, g, e);
-        out[0] = V_ + coarse.face_edges[3 * g + (i + 1) % 3];
-        out[1] = V_ + coarse.face_edges[3 * g + (i + 2) % 3];
+        for (std::uint32_t s = 0; s < 2; ++s)
+          out[s] = g == kNone ? kNone : V_ + other_edge_at(coarse, g, e, coarse.triangles[3 * f + (k + s) % 3]);
       }
   }
 
   /// The rows of the halves of coarse edges [begin, end): (a, m) then (m, b) for each.
   void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
-    const std::uint32_t regular = regular_pattern(step);
+    const std::uint32_t regular = butterfly_regular_pattern(step);
     for (std::uint32_t e = begin; e < end; ++e) {
       const std::uint32_t a = t_.edge_vertices[2 * e], b = t_.edge_vertices[2 * e + 1], m = V_ + e;
       const std::uint32_t f0 = t_.edge_faces[2 * e], f1 = t_.edge_faces[2 * e + 1];
       if (f1 == kNone) {
-        // A fine boundary edge: the 4-point rule over the fine boundary neighbours. At the coarse
-        // vertex that is the midpoint of its other coarse boundary edge, at m the far endpoint.
-        boundary_row(step, a, m, V_ + other_boundary_edge(a, e), b);
-        boundary_row(step, m, b, a, V_ + other_boundary_edge(b, e));
+        // Fine boundary edges. The boundary neighbour of the coarse vertex beyond the half is the
+        // midpoint of its other coarse boundary edge; that of m is the far endpoint.
+        butterfly_boundary_row(step, row_, a, m, V_ + other_boundary_edge(a, e), b);
+        butterfly_boundary_row(step, row_, m, b, a, V_ + other_boundary_edge(b, e));
         continue;
       }
       // f0 runs e as a -> b (its edge i0), f1 as b -> a (its edge i1); m_k below is the
@@ -641,15 +673,15 @@ class ButterflyRefinedRows {
       const std::uint32_t* fe1 = &t_.face_edges[3 * f1];
       const std::uint32_t e0_next = fe0[(i0 + 1) % 3], e0_previous = fe0[(i0 + 2) % 3];
       const std::uint32_t e1_next = fe1[(i1 + 1) % 3], e1_previous = fe1[(i1 + 2) % 3];
-      // (a, m): first face f0's corner face at a (a, m, m_{i0+2}), second f1's corner face at a
-      // (a, m_{i1+1}, m). The wings at m are inner edges with the centre faces across.
-      // (a is the end of f0's edge i0 + 2 and the start of f1's edge i1 + 1; b the start of f0's
-      // edge i0 + 1 and the end of f1's edge i1 + 2.)
       const std::uint32_t* across0 = &across_[6 * std::size_t{f0}];
       const std::uint32_t* across1 = &across_[6 * std::size_t{f1}];
+      // (a, m): first face f0's corner face at a (a, m, m_{i0+2}), second f1's corner face at a
+      // (a, m_{i1+1}, m). The wings at m are inner edges with the centre faces across. (a is the
+      // end of f0's edge i0 + 2 and the start of f1's edge i1 + 1.)
       row(step, regular, e, a, m, {V_ + e0_previous, across0[2 * ((i0 + 2) % 3) + 1], V_ + e0_next},
           {V_ + e1_next, across1[2 * ((i1 + 1) % 3)], V_ + e1_previous});
-      // (m, b): first f0's corner face at b (b, m_{i0+1}, m), second f1's (b, m, m_{i1+2}).
+      // (m, b): first f0's corner face at b (b, m_{i0+1}, m), second f1's (b, m, m_{i1+2}). (b is
+      // the start of f0's edge i0 + 1 and the end of f1's edge i1 + 2.)
       row(step, regular, e, m, b, {V_ + e0_next, V_ + e0_previous, across0[2 * ((i0 + 1) % 3)]},
           {V_ + e1_previous, V_ + e1_next, across1[2 * ((i1 + 2) % 3) + 1]});
     }
@@ -659,7 +691,7 @@ class ButterflyRefinedRows {
   /// has first the corner face at c_{i+2} (b = c_{i+2}, wings the halves at c_{i+2} of edges i+2
   /// and i+1), second the centre face (b = m_i, the corner faces at c_i and c_{i+1} across).
   void inner(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
-    const std::uint32_t regular = regular_pattern(step);
+    const std::uint32_t regular = butterfly_regular_pattern(step);
     for (std::uint32_t f = begin; f < end; ++f) {
       const std::uint32_t* c = &t_.triangles[3 * f];
       const std::uint32_t* fe = &t_.face_edges[3 * f];
@@ -674,16 +706,6 @@ class ButterflyRefinedRows {
   }
 
  private:
-  /// b, then the tips across the wings at a0 and at a1 (kNone: no face across).
-  struct Side {
-    std::uint32_t b, tip_a0, tip_a1;
-  };
-
-  std::uint32_t regular_pattern(StepWriter& step) {
-    const double weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
-    return step.pattern(1.0, weights);
-  }
-
   /// The boundary edge at coarse vertex v other than e.
   std::uint32_t other_boundary_edge(std::uint32_t v, std::uint32_t e) const {
     const VertexEdges& ve = vertices_.edges();
@@ -698,67 +720,27 @@ class ButterflyRefinedRows {
   /// Whether fine vertex v is extraordinary (only coarse vertices can be).
   bool irregular(std::uint32_t v) const { return v < V_ && vertices_.irregular(v); }
 
-  /// butterfly_row's boundary rule: (-1, 9, 9, -1)/16 over (before, a0, a1, after).
-  void boundary_row(StepWriter& step, std::uint32_t a0, std::uint32_t a1, std::uint32_t beyond_a0, std::uint32_t beyond_a1) {
-    row_.add(a0, 9.0 / 16);
-    row_.add(a1, 9.0 / 16);
-    row_.add(beyond_a0, -1.0 / 16);
-    row_.add(beyond_a1, -1.0 / 16);
-    step.row(row_);
-    row_.clear();
-  }
-
   /// The row of interior fine edge (a0, a1), a half of coarse edge `e` or an inner edge (e kNone).
   [[gnu::always_inline]] void row(StepWriter& step, std::uint32_t regular, std::uint32_t e, std::uint32_t a0,
-                                  std::uint32_t a1, const Side& first, const Side& second) {
-    const std::uint32_t sources[8] = {a0, a1, first.b, first.tip_a0, first.tip_a1, second.b, second.tip_a0, second.tip_a1};
-    bool straight = !irregular(a0) && !irregular(a1);
-    for (int i = 2; i < 8; ++i) straight &= sources[i] != kNone;
-    for (int i = 1; i < 8; ++i)
-      for (int k = 0; k < i; ++k) straight &= sources[i] != sources[k];
-    if (straight) [[likely]]
-      step.row(regular, sources);
+                                  std::uint32_t a1, const ButterflySide& first, const ButterflySide& second) {
+    if (irregular(a0) || irregular(a1)) [[unlikely]]
+      extraordinary_row(step, e, irregular(a0) ? a0 : a1);
     else
-      rule_row(step, e, a0, a1, first, second);
+      butterfly_regular_row(step, regular, row_, a0, a1, first, second);
   }
 
-  /// The same where the row is not the regular one: butterfly_row's other rules.
-  [[gnu::noinline]] void rule_row(StepWriter& step, std::uint32_t e, std::uint32_t a0, std::uint32_t a1, const Side& first,
-                                  const Side& second) {
-    if (!irregular(a0) && !irregular(a1)) {
-      // butterfly_row's regular rule, a missing tip across wing (x, b) replaced by x + b - y.
-      row_.add(a0, 0.5);
-      row_.add(a1, 0.5);
-      for (const Side& side : {first, second}) {
-        row_.add(side.b, 1.0 / 8);
-        for (const std::uint32_t x : {a0, a1}) {
-          const std::uint32_t tip = x == a0 ? side.tip_a0 : side.tip_a1;
-          if (tip != kNone) {
-            row_.add(tip, -1.0 / 16);
-          } else {
-            row_.add(x, -1.0 / 16);
-            row_.add(side.b, -1.0 / 16);
-            row_.add(x == a0 ? a1 : a0, 1.0 / 16);
-          }
-        }
-      }
-    } else {
-      // One extraordinary endpoint x, a coarse vertex (the other is the odd vertex m = V + e):
-      // 3/4 on x and s_i on its fine ring, the midpoints of its coarse edges in face order from
-      // e through e's first face, as ordered_ring walks the fine corner faces at x.
-      const std::uint32_t x = irregular(a0) ? a0 : a1;
-      const unsigned K = vertices_.valence(x);
-      const std::vector<double>& s = vertices_.ring_weights(K);
-      row_.add(x, 0.75);
-      std::uint32_t edge = e, f = t_.edge_faces[2 * e];
-      for (unsigned i = 0; i < K; ++i) {
-        row_.add(V_ + edge, s[i]);
-        // The other edge at x in face f, then the face across it.
-        const std::uint32_t k = edge_in_face(t_, f, edge);
-        edge = t_.face_edges[3 * f + (t_.triangles[3 * f + k] == x ? (k + 2) % 3 : (k + 1) % 3)];
-        f = other_face(t_, edge, f);
-      }
+  /// A half of coarse edge e at its extraordinary endpoint x (the other endpoint, m = V + e, never
+  /// is): x's fine ring is the midpoints of its coarse edges in face order from e through e's
+  /// first face, as ordered_ring walks the fine corner faces at x.
+  [[gnu::noinline]] void extraordinary_row(StepWriter& step, std::uint32_t e, std::uint32_t x) {
+    const unsigned K = vertices_.valence(x);
+    ring_.clear();
+    for (std::uint32_t edge = e, f = t_.edge_faces[2 * e]; ring_.size() < K;) {
+      ring_.push_back(V_ + edge);
+      edge = other_edge_at(t_, f, edge, x);
+      f = other_face(t_, edge, f);
     }
+    butterfly_extraordinary_terms(row_, x, ring_, 1.0, vertices_.ring_weights(K));
     step.row(row_);
     row_.clear();
   }
@@ -771,26 +753,46 @@ class ButterflyRefinedRows {
   // at c_{k+s}.
   std::vector<std::uint32_t> across_;
   RowBuilder row_;
+  std::vector<std::uint32_t> ring_;
 };
 
-/// The rows of predict(coarse.refined(), Scheme::linear) for the halves of coarse edges
-/// [begin, end), then (linear_inner_rows) for the inner edges of coarse faces [begin, end).
-void linear_half_rows(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
-  const double midpoint[] = {0.5, 0.5};
-  const std::uint32_t pattern = step.pattern(1.0, midpoint);
-  for (std::uint32_t e = begin; e < end; ++e) {
-    const std::uint32_t m = coarse.vertex_count + e;
-    step.row(pattern, {coarse.edge_vertices[2 * e], m});
-    step.row(pattern, {m, coarse.edge_vertices[2 * e + 1]});
+/// The rows of predict(coarse.refined(), Scheme::linear), odd = (a + b) / 2, read off the coarse
+/// level as ButterflyRefinedRows reads butterfly's.
+struct LinearRefinedRows {
+  const TriangleTopology& coarse;
+
+  void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) const {
+    const std::uint32_t pattern = midpoint_pattern(step);
+    for (std::uint32_t e = begin; e < end; ++e) {
+      const std::uint32_t m = coarse.vertex_count + e;
+      step.row(pattern, {coarse.edge_vertices[2 * e], m});
+      step.row(pattern, {m, coarse.edge_vertices[2 * e + 1]});
+    }
   }
-}
-void linear_inner_rows(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
-  const double midpoint[] = {0.5, 0.5};
-  const std::uint32_t pattern = step.pattern(1.0, midpoint);
-  const std::uint32_t V = coarse.vertex_count;
-  for (std::uint32_t f = begin; f < end; ++f)
-    for (std::uint32_t i = 0; i < 3; ++i)
-      step.row(pattern, {V + coarse.face_edges[3 * f + (i + 2) % 3], V + coarse.face_edges[3 * f + (i + 1) % 3]});
+  void inner(StepWriter& step, std::uint32_t begin, std::uint32_t end) const {
+    const std::uint32_t pattern = midpoint_pattern(step);
+    const std::uint32_t V = coarse.vertex_count;
+    for (std::uint32_t f = begin; f < end; ++f)
+      for (std::uint32_t i = 0; i < 3; ++i)
+        step.row(pattern, {V + coarse.face_edges[3 * f + (i + 2) % 3], V + coarse.face_edges[3 * f + (i + 1) % 3]});
+  }
+  static std::uint32_t midpoint_pattern(StepWriter& step) {
+    const double midpoint[] = {0.5, 0.5};
+    return step.pattern(1.0, midpoint);
+  }
+};
+
+/// Calls use(rows) with the reader of `scheme`'s refined rows (linear or butterfly).
+template <class Use>
+void with_refined_rows(const TriangleTopology& coarse, Scheme scheme, const char* caller, Use&& use) {
+  if (scheme == Scheme::loop) throw std::invalid_argument(std::string(caller) + ": linear or butterfly only");
+  if (scheme == Scheme::linear) {
+    LinearRefinedRows rows{coarse};
+    use(rows);
+  } else {
+    ButterflyRefinedRows rows(coarse);
+    use(rows);
+  }
 }
 
 }  // namespace
@@ -811,38 +813,26 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
 }
 
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
-  if (scheme == Scheme::loop) throw std::invalid_argument("refined_predict: linear or butterfly only");
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   StepWriter step(coarse.vertex_count + E, predict_arity(scheme) * (2 * std::size_t{E} + 3 * std::size_t{F}));
-  if (scheme == Scheme::linear) {
-    linear_half_rows(step, coarse, 0, E);
-    linear_inner_rows(step, coarse, 0, F);
-  } else {
-    ButterflyRefinedRows rows(coarse);
+  with_refined_rows(coarse, scheme, "refined_predict", [&](auto& rows) {
     rows.halves(step, 0, E);
     rows.inner(step, 0, F);
-  }
+  });
   return step.finish();
 }
 
 void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
                             const std::function<void(const LiftingStep&)>& apply) {
-  if (scheme == Scheme::loop) throw std::invalid_argument("refined_predict_blocks: linear or butterfly only");
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   const std::uint32_t first_odd = coarse.vertex_count + E, arity = static_cast<std::uint32_t>(predict_arity(scheme));
   std::vector<std::uint32_t> buffer;
-  if (scheme == Scheme::linear) {
+  with_refined_rows(coarse, scheme, "refined_predict_blocks", [&](auto& rows) {
     in_blocks(first_odd, E, 2, arity, block_rows, buffer, apply,
-              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { linear_half_rows(step, coarse, begin, end); });
+              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.halves(step, begin, end); });
     in_blocks(first_odd + 2 * E, F, 3, arity, block_rows, buffer, apply,
-              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { linear_inner_rows(step, coarse, begin, end); });
-    return;
-  }
-  ButterflyRefinedRows rows(coarse);
-  in_blocks(first_odd, E, 2, arity, block_rows, buffer, apply,
-            [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.halves(step, begin, end); });
-  in_blocks(first_odd + 2 * E, F, 3, arity, block_rows, buffer, apply,
-            [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
+              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
+  });
 }
 
 void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,
