@@ -148,6 +148,11 @@ int main(int argc, char** argv) {
   const std::size_t two_bpv = static_cast<std::size_t>(2 * V / 8);
   Timing whole_file;
   std::string output_hashes;
+  auto add_hash = [&output_hashes](const std::string& what, std::uint64_t hash) {
+    char line[96];
+    std::snprintf(line, sizeof line, "  %-22s %016llx\n", (what + " hash").c_str(), static_cast<unsigned long long>(hash));
+    output_hashes += line;
+  };
   std::uint64_t cold_hashes[2] = {};
   // Decodes the first `budget` bytes of `stream` `runs` times; prints the best time as "decode N bpv<label>".
   auto timed_decode = [&](const std::vector<std::uint8_t>& stream, std::size_t budget, const std::string& label,
@@ -163,11 +168,8 @@ int main(int argc, char** argv) {
     DecodeResult r;
     const auto [t, what] = timed_decode(file, budget, "", r);
     if (budget == file.size()) whole_file = t;
-    const std::uint64_t hash = output_hash(r);
-    cold_hashes[budget == file.size()] = hash;
-    char line[96];
-    std::snprintf(line, sizeof line, "  %-22s %016llx\n", (what + " hash").c_str(), static_cast<unsigned long long>(hash));
-    output_hashes += line;
+    cold_hashes[budget == file.size()] = output_hash(r);
+    add_hash(what, cold_hashes[budget == file.size()]);
   }
   // The same decodes into one result kept across calls (decode_into): its output arrays reused,
   // as by a viewer that asks for the mesh again and again; the figures above are a fresh
@@ -191,10 +193,7 @@ int main(int argc, char** argv) {
     butterfly.scheme = Scheme::butterfly;
     DecodeResult r;
     const std::string what = timed_decode(encode(mesh, butterfly), two_bpv, ", butterfly", r).second;
-    char line[96];
-    std::snprintf(line, sizeof line, "  %-22s %016llx\n", (what + " hash").c_str(),
-                  static_cast<unsigned long long>(output_hash(r)));
-    output_hashes += line;
+    add_hash(what, output_hash(r));  // after the decode (arguments are evaluated in no set order)
   }
   std::printf("decoded output (positions and faces, FNV-1a):\n%s", output_hashes.c_str());
   {
