@@ -180,7 +180,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
       detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
     }
     // Insignificant coefficients are 0 (the zeros the vector starts with).
-    // Huge pages where offered (large_array.h): the values are the largest array written here.
+    // Made resident in one system call (large_array.h): the values are the largest array written here.
     std::vector<double> values;
     if (storage != nullptr) values = std::move(storage->positions);
     assign_large(values, std::size_t{h.vertex_count(L)} * k_stride);

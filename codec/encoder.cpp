@@ -251,7 +251,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   header.tangent_shift = options.local_frames ? options.tangent_shift : 0;
 
   // The values to analyze, K per vertex (geometry, then the channels), in canonical order: first
-  // as given, then centred below. Huge pages where offered (large_array.h), as the arrays below.
+  // as given, then centred below. Made resident in one system call (large_array.h), as the arrays below.
   const int K = 3 + [&] {
     int n = 0;
     for (const VertexChannel& c : input.channels) n += c.components;

@@ -57,14 +57,10 @@ Forest::Forest(const SemiRegularHierarchy& h) {
 namespace {
 
 /// An array of fixed capacity, left uninitialized: its pages become resident only as entries are
-/// written, so a capacity at the worst-case bound costs only the address space. Advised for huge
-/// pages (large_array.h): the lists fill from their start, so the pages they touch are a prefix,
-/// faulted in 2 MiB at a time instead of 4 KiB.
+/// written, so a capacity at the worst-case bound costs only the address space.
 template <class T>
 std::unique_ptr<T[]> reserve(std::size_t capacity) {
-  std::unique_ptr<T[]> array = std::make_unique_for_overwrite<T[]>(capacity);
-  advise_huge_pages(array.get(), capacity * sizeof(T));
-  return array;
+  return std::make_unique_for_overwrite<T[]>(capacity);
 }
 
 }  // namespace
@@ -78,7 +74,6 @@ static_assert(std::is_trivially_default_constructible_v<Quantized::Coefficient> 
 void Quantized::allocate(std::size_t count) {
   coefficients = std::make_unique_for_overwrite<Coefficient[]>(count);
   size = count;
-  advise_huge_pages(coefficients.get(), count * sizeof(Coefficient));
 }
 
 int top_plane(const Quantized& q) {

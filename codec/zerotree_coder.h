@@ -75,7 +75,7 @@ struct Quantized {
   /// Left uninitialized by allocate(): the quantizer writes every record.
   std::unique_ptr<Coefficient[]> coefficients;
 
-  /// Room for `count` records, their storage advised for huge pages, not written.
+  /// Room for `count` records, not written.
   void allocate(std::size_t count);
 };
 
