@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace meshlift {
 
@@ -11,17 +12,41 @@ bool PolygonMesh::is_triangle_mesh() const {
   return true;
 }
 
-TriangleMesh to_triangle_mesh(const PolygonMesh& mesh) {
-  TriangleMesh out;
-  out.positions = mesh.positions;
-  out.triangles.reserve(mesh.face_indices.size());
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+namespace {
+
+/// Throws MeshError naming the first face that is not a triangle. When there is none, the faces'
+/// corners are the 3 F indices from face_indices[face_offsets[0]] on, triangle by triangle.
+/// Returns that first index.
+std::size_t require_triangles(const PolygonMesh& mesh) {
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
     if (mesh.face_size(f) != 3)
       throw MeshError("face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) +
                       " corners; a triangle mesh is required");
-    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
-      out.triangles.push_back(mesh.face_indices[c]);
+  return mesh.face_count() > 0 ? mesh.face_offsets[0] : 0;
+}
+
+}  // namespace
+
+TriangleMesh to_triangle_mesh(const PolygonMesh& mesh) {
+  const auto first = static_cast<std::ptrdiff_t>(require_triangles(mesh));
+  TriangleMesh out;
+  out.positions = mesh.positions;
+  out.triangles.assign(mesh.face_indices.begin() + first,
+                       mesh.face_indices.begin() + first + 3 * static_cast<std::ptrdiff_t>(mesh.face_count()));
+  return out;
+}
+
+TriangleMesh to_triangle_mesh(PolygonMesh&& mesh) {
+  if (require_triangles(mesh) != 0) {  // faces that do not start at index 0: copied
+    TriangleMesh out = to_triangle_mesh(std::as_const(mesh));
+    mesh = PolygonMesh{};
+    return out;
   }
+  TriangleMesh out;
+  out.positions = std::move(mesh.positions);
+  out.triangles = std::move(mesh.face_indices);
+  out.triangles.resize(3 * std::size_t{mesh.face_count()});
+  mesh = PolygonMesh{};
   return out;
 }
 

@@ -23,6 +23,10 @@ std::uint64_t ExactPositions::hash(const double* p) {
   return h;
 }
 
+void ExactPositions::prefetch(std::span<const double> positions, std::uint32_t v) const {
+  __builtin_prefetch(&slots_[hash(&positions[3 * std::size_t{v}]) & (slots_.size() - 1)]);
+}
+
 void ExactPositions::insert(std::uint64_t h, std::uint32_t v) {
   const std::size_t mask = slots_.size() - 1;
   std::size_t i = h & mask;

@@ -22,6 +22,10 @@ class ExactPositions {
   /// v itself, added (unless its position is not finite).
   std::uint32_t first_at(std::span<const double> positions, std::uint32_t v);
 
+  /// Asks the cache for the slot where first_at(positions, v) starts probing: a table of millions
+  /// of vertices is read at random, and called a few vertices ahead this hides the miss.
+  void prefetch(std::span<const double> positions, std::uint32_t v) const;
+
  private:
   static std::uint64_t hash(const double* p);
   void insert(std::uint64_t h, std::uint32_t v);

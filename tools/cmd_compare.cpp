@@ -40,12 +40,12 @@ void print_json_side(const char* name, const OneSidedDistance& d, double diagona
 }
 
 int run_compare(const CompareOptions& options) {
-  const std::optional<PolygonMesh> reference = load_mesh(options.reference);
+  std::optional<PolygonMesh> reference = load_mesh(options.reference);
   if (!reference) return kBadInput;
-  const std::optional<PolygonMesh> test = load_mesh(options.test);
+  std::optional<PolygonMesh> test = load_mesh(options.test);
   if (!test) return kBadInput;
-  const TriangleMesh reference_triangles = triangles_of(options.reference, *reference);
-  const TriangleMesh test_triangles = triangles_of(options.test, *test);
+  const TriangleMesh reference_triangles = triangles_of(options.reference, std::move(*reference));
+  const TriangleMesh test_triangles = triangles_of(options.test, std::move(*test));
   if (reference_triangles.face_count() == 0) {
     std::cerr << "meshlift: " << options.reference << ": the mesh has no faces: nothing to compare\n";
     return kBadInput;

@@ -61,9 +61,10 @@ int run_gim(const GimCommandOptions& options) {
     return kUsage;
   }
   if (!check_distinct_output(options.input, options.output)) return kOutputError;
-  const std::optional<PolygonMesh> loaded = load_mesh(options.input);
+  std::optional<PolygonMesh> loaded = load_mesh(options.input);
   if (!loaded) return kBadInput;
-  const TriangleMesh mesh = triangles_of(options.input, *loaded);
+  const TriangleMesh mesh = triangles_of(options.input, std::move(*loaded));
+  loaded.reset();
   SphereRemesh remesh{refine_linear(octahedron(), 0), {}};
   const auto start = std::chrono::steady_clock::now();
   try {

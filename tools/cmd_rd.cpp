@@ -275,11 +275,11 @@ class Sweep {
     base.codec = "meshlift";
 
     // Load and prepare the original; a failure here is one row for the mesh.
-    const std::optional<PolygonMesh> loaded = load_mesh(input);  // prints its own message
+    std::optional<PolygonMesh> loaded = load_mesh(input);  // prints its own message
     if (!loaded) return add(failed(base, "cannot read " + input + " as a mesh"));
     base.input_vertices = loaded->vertex_count();
     try {
-      reference.mesh = triangles_of(input, *loaded, {options_.remesh.weld, options_.remesh.orient});
+      reference.mesh = triangles_of(input, std::move(*loaded), {options_.remesh.weld, options_.remesh.orient});
     } catch (const MeshError& e) {
       return add(failed(base, e.what()));
     }

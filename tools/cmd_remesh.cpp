@@ -25,9 +25,10 @@ struct RemeshArgs {
 
 int run_remesh(const RemeshArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
-  const std::optional<PolygonMesh> loaded = load_mesh(a.input);
+  std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
-  const TriangleMesh input = triangles_of(a.input, *loaded, {a.remesh.weld, a.remesh.orient});
+  const TriangleMesh input = triangles_of(a.input, std::move(*loaded), {a.remesh.weld, a.remesh.orient});
+  loaded.reset();
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<RemeshResult> result = remesh_for_cli(a.input, input, a.remesh);
   if (!result) return kBadInput;

@@ -68,10 +68,10 @@ std::optional<PolygonMesh> load_mesh(const std::string& path) {
   }
 }
 
-TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, InputRepairs repairs) {
+TriangleMesh triangles_of(const std::string& path, PolygonMesh mesh, InputRepairs repairs) {
   TriangleMesh triangles;
   if (mesh.is_triangle_mesh()) {
-    triangles = to_triangle_mesh(mesh);
+    triangles = to_triangle_mesh(std::move(mesh));
   } else {
     Triangulation t = triangulate(mesh);
     std::cerr << "meshlift: " << path << ": " << describe(t) << "\n";

@@ -49,7 +49,8 @@ std::optional<PolygonMesh> load_mesh(const std::string& path);
 struct InputRepairs {
   bool weld = false, orient = false;
 };
-TriangleMesh triangles_of(const std::string& path, const PolygonMesh& mesh, InputRepairs repairs = {});
+/// Takes `mesh` by value: a caller done with it moves it in, and its arrays are taken over.
+TriangleMesh triangles_of(const std::string& path, PolygonMesh mesh, InputRepairs repairs = {});
 /// `mesh` with the repairs asked for, in that order (weld, then orient); each adds its note.
 TriangleMesh repaired(TriangleMesh mesh, InputRepairs repairs, std::vector<std::string>* notes = nullptr);
 /// For a mesh whose vertices coincide or whose faces disagree in turn (`report` is its

@@ -126,3 +126,33 @@ TEST_CASE("hierarchy without the finest faces makes the same faces on demand", "
     CHECK(std::move(kept).release_finest_triangles() == full.triangles(2));
   }
 }
+
+TEST_CASE("to_triangle_mesh: copied or taken over, the same triangles, and a polygon refused with the mesh kept", "[mesh]") {
+  PolygonMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  m.face_offsets = {0, 3, 6};
+  m.face_indices = {0, 1, 2, 2, 1, 3};
+  const TriangleMesh copied = to_triangle_mesh(m);
+  CHECK(copied.positions == m.positions);
+  CHECK(copied.triangles == std::vector<std::uint32_t>{0, 1, 2, 2, 1, 3});
+  PolygonMesh moved_from = m;
+  const TriangleMesh taken = to_triangle_mesh(std::move(moved_from));
+  CHECK(taken.positions == copied.positions);
+  CHECK(taken.triangles == copied.triangles);
+  CHECK(moved_from.vertex_count() == 0);
+  CHECK(moved_from.face_count() == 0);
+  // Faces that do not start at index 0 of face_indices (a caller's layout): their own corners.
+  PolygonMesh offset = m;
+  offset.face_offsets = {1, 4, 7};
+  offset.face_indices.insert(offset.face_indices.begin(), 3);
+  CHECK(to_triangle_mesh(offset).triangles == copied.triangles);
+  CHECK(to_triangle_mesh(std::move(offset)).triangles == copied.triangles);
+  // A quad: refused by both, naming it; the mesh handed over is left as it was.
+  PolygonMesh quad = m;
+  quad.face_offsets = {0, 3, 7};
+  quad.face_indices = {0, 1, 2, 0, 1, 3, 2};
+  CHECK_THROWS_WITH(to_triangle_mesh(quad), Catch::Contains("face 1 has 4 corners"));
+  CHECK_THROWS_WITH(to_triangle_mesh(std::move(quad)), Catch::Contains("face 1 has 4 corners"));
+  CHECK(quad.face_indices.size() == 7);  // NOLINT(bugprone-use-after-move): kept on a refusal, as documented
+  CHECK(quad.positions == m.positions);
+}

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -200,4 +201,72 @@ TEST_CASE("PLY reader: the corpus's PLY files read as OpenMesh's PLY reader read
     ++files;
   }
   CHECK(files >= 2);
+}
+
+TEST_CASE("PLY reader: the common binary layout, read in bulk, reads as the general path does", "[ply]") {
+  // Float x, y, z per vertex and a uchar-counted list of int (or uint) corners per face, the
+  // layout meshlift writes, is read in bulk where its byte order is this machine's; a big-endian
+  // file of the same mesh goes the general way, value by value. Both must give the same mesh, the
+  // same refusals at every truncation, and the same messages for a face of no corners and for
+  // corners that name no vertex.
+  test::Scratch scratch("bulk");
+  auto file = [](bool big, const std::string& corner_type, const std::vector<std::vector<std::int64_t>>& faces) {
+    std::string out = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                      " 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                      std::to_string(faces.size()) + "\nproperty list uchar " + corner_type + " vertex_indices\nend_header\n";
+    for (int v = 0; v < 5; ++v)
+      for (int k = 0; k < 3; ++k) put(out, 0.25f * static_cast<float>(v * 3 + k) - 1.0f, big);
+    for (const auto& face : faces) {
+      put(out, static_cast<std::uint8_t>(face.size()), big);
+      for (const std::int64_t c : face) {
+        if (corner_type == "int")
+          put(out, static_cast<std::int32_t>(c), big);
+        else
+          put(out, static_cast<std::uint32_t>(c), big);
+      }
+    }
+    return out;
+  };
+  // What read_mesh gives: the mesh, or its message.
+  auto outcome = [&](const std::string& bytes) -> std::pair<std::optional<PolygonMesh>, std::string> {
+    try {
+      return {read_mesh(scratch.write("m.ply", bytes)), ""};
+    } catch (const MeshIOError& e) {
+      // The message names the file (the same path for both), then the problem.
+      return {std::nullopt, e.what()};
+    }
+  };
+  const std::vector<std::vector<std::int64_t>> faces = {{0, 1, 2}, {0, 2, 3, 4}, {4, 3, 1}, {1, 0, 4}};
+  for (const std::string type : {"int", "uint"}) {
+    INFO(type);
+    const std::string little = file(false, type, faces), big = file(true, type, faces);
+    const auto a = outcome(little), b = outcome(big);
+    REQUIRE(a.first);
+    REQUIRE(b.first);
+    CHECK(a.first->positions == b.first->positions);
+    CHECK(a.first->face_offsets == std::vector<std::uint32_t>{0, 3, 7, 10, 13});
+    CHECK(a.first->face_offsets == b.first->face_offsets);
+    CHECK(a.first->face_indices == b.first->face_indices);
+    CHECK(a.first->positions[3] == -0.25);  // vertex 1's x: 0.25 * 3 - 1
+    // Every cut of the body (the headers differ in length: their format lines).
+    const std::size_t little_body = little.find("end_header\n") + 11, big_body = big.find("end_header\n") + 11;
+    REQUIRE(little.size() - little_body == big.size() - big_body);
+    for (std::size_t n = 0; n < little.size() - little_body; ++n) {
+      INFO(n);
+      const auto cut_little = outcome(little.substr(0, little_body + n)), cut_big = outcome(big.substr(0, big_body + n));
+      CHECK(cut_little.second == cut_big.second);
+      CHECK(cut_little.first.has_value() == cut_big.first.has_value());
+    }
+    // A face of no corners after two good ones; a corner that names no vertex.
+    auto no_corners = faces;
+    no_corners[2].clear();
+    CHECK_THAT(outcome(file(false, type, no_corners)).second, Catch::Contains("face 2 has no corners"));
+    CHECK(outcome(file(false, type, no_corners)).second == outcome(file(true, type, no_corners)).second);
+    auto beyond = faces;
+    beyond[3][1] = type == "int" ? -2 : 0xffffffff;
+    CHECK_THAT(outcome(file(false, type, beyond)).second, Catch::Contains("face 3 references vertex (invalid)"));
+    CHECK(outcome(file(false, type, beyond)).second == outcome(file(true, type, beyond)).second);
+    beyond[3][1] = 5;
+    CHECK_THAT(outcome(file(false, type, beyond)).second, Catch::Contains("face 3 references vertex 5 but the file has 5"));
+  }
 }

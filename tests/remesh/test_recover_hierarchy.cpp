@@ -131,6 +131,17 @@ TEST_CASE("remesh() takes a semi-regular input over as it is", "[remesh][recover
   CHECK(result.recognized);
   CHECK(result.base_vertices == 12);
   CHECK(geometric_faces(result.mesh.finest()) == geometric_faces(input));
+  CHECK(result.coincident_vertices == 0);
+  // Vertices at the same position are counted, whichever route recognizes the mesh: in level
+  // order (the count made beside the recovery) or scrambled (the validation's count).
+  TriangleMesh pinched = refined.finest();
+  const std::uint32_t last = static_cast<std::uint32_t>(pinched.vertex_count() - 1);
+  std::copy_n(pinched.positions.begin(), 3, pinched.positions.begin() + 3 * std::ptrdiff_t{last});  // onto vertex 0
+  for (const TriangleMesh& m : {pinched, scrambled(pinched, 13)}) {
+    const RemeshResult r = remesh(m);
+    CHECK(r.recognized);
+    CHECK(r.coincident_vertices == 1);
+  }
 }
 
 TEST_CASE("A level-ordered mesh refined again in another numbering recovers every level", "[remesh][recover]") {

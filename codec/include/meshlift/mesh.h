@@ -44,6 +44,9 @@ class MeshError : public std::runtime_error {
 
 /// The triangles of a polygon mesh; throws MeshError if a face is not a triangle.
 TriangleMesh to_triangle_mesh(const PolygonMesh& mesh);
+/// The same, taking over the mesh's arrays instead of copying them (a 3.3 M-vertex mesh: 160 MB
+/// not copied); `mesh` is left empty. On a MeshError it is left as it was.
+TriangleMesh to_triangle_mesh(PolygonMesh&& mesh);
 /// A triangle mesh viewed as a polygon mesh.
 PolygonMesh to_polygon_mesh(const TriangleMesh& mesh);
 
