@@ -290,6 +290,7 @@ std::uint64_t read_bulk(const Element& e, BinaryBody& body, PolygonMesh& mesh) {
   if (e.name == "vertex") {
     std::size_t stride = 0, offset[3] = {};
     Type type[3] = {Type::f64, Type::f64, Type::f64};
+    bool found[3] = {false, false, false};
     for (const Property& p : e.properties) {
       if (p.count_type) return 0;
       if (p.role == Role::x || p.role == Role::y || p.role == Role::z) {
@@ -297,9 +298,12 @@ std::uint64_t read_bulk(const Element& e, BinaryBody& body, PolygonMesh& mesh) {
         const int k = static_cast<int>(p.role) - 1;
         offset[k] = stride;
         type[k] = p.type;
+        found[k] = true;
       }
       stride += size_of(p.type);
     }
+    // An element that lacks a coordinate (a second vertex element, say) goes the general way.
+    if (!(found[0] && found[1] && found[2]) || stride == 0) return 0;
     const std::uint64_t count = std::min<std::uint64_t>(e.count, body.left() / stride);
     for (std::uint64_t item = 0; item < count; ++item) {
       const char* at = body.next();

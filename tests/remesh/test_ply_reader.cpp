@@ -269,4 +269,17 @@ TEST_CASE("PLY reader: the common binary layout, read in bulk, reads as the gene
     beyond[3][1] = 5;
     CHECK_THAT(outcome(file(false, type, beyond)).second, Catch::Contains("face 3 references vertex 5 but the file has 5"));
   }
+  // A second vertex element without coordinates (its vertices at the origin, as the general path
+  // reads them), in both byte orders.
+  for (const bool big : {false, true}) {
+    std::string two = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                      " 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element vertex 2\nproperty float nx\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const float x : {1.f, 2.f, 3.f, 4.f, 5.f, 6.f, 7.f, 8.f, 9.f, 10.f, 11.f}) put(two, x, big);
+    put(two, std::uint8_t{3}, big);
+    for (const std::int32_t c : {0, 1, 4}) put(two, c, big);
+    const auto r = outcome(two);
+    REQUIRE(r.first);
+    CHECK(r.first->positions == std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9, 0, 0, 0, 0, 0, 0});
+  }
 }
