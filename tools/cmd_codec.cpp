@@ -98,7 +98,7 @@ int run_encode(const EncodeArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
   std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
-  const TriangleMesh input = triangles_of(a.input, std::move(*loaded), {a.remesh.weld, a.remesh.orient});
+  TriangleMesh input = triangles_of(a.input, std::move(*loaded), {a.remesh.weld, a.remesh.orient});
   loaded.reset();
   // Any triangle mesh: taken over if it already is semi-regular, else remeshed (remesh.h). A mesh
   // the codec cannot take is refused there, with validate.h's message (validated once: that is
@@ -108,13 +108,15 @@ int run_encode(const EncodeArgs& a) {
   if (!remeshed) return kBadInput;
   print_remesh_summary(a.input, input, *remeshed,
                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_remesh).count());
+  // Only its vertex count is read from here on (the semi-regular mesh holds its own copy).
+  const std::size_t vertices = input.vertex_count();
+  input = TriangleMesh{};
   const SemiRegularMesh* mesh = &remeshed->mesh;
   EncodeOptions options;
   options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh, a.update) : parse_scheme(a.scheme);
   options.mean_preserving_update = a.update;
   options.precision_bits = a.bits;
   apply_frame_options(a.frames, options);
-  const std::size_t vertices = input.vertex_count();
   if (a.bytes > 0) options.max_bytes = a.bytes;
   if (a.bpv > 0) options.max_bytes = static_cast<std::size_t>(std::ceil(a.bpv * static_cast<double>(vertices) / 8));
   std::vector<std::uint8_t> file;
