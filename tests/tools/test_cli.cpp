@@ -89,6 +89,46 @@ TEST_CASE("bad input gets a one-line message and a non-zero exit - no output fil
   fs::remove_all(dir);
 }
 
+TEST_CASE("subdivide puts new levels on top of a level-ordered input's hierarchy", "[cli]") {
+  // The tetrahedron subdivided twice, then that output once more: the same faces, vertex for
+  // vertex, as the tetrahedron subdivided three times at once (the output is in level order
+  // through all three levels), and the same points to the files' float precision.
+  const fs::path dir = scratch();
+  const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
+  const std::string two = (dir / "two.off").string(), three = (dir / "three.off").string(),
+                    again = (dir / "again.off").string();
+  for (const std::string scheme : {"loop", "butterfly"}) {
+    INFO(scheme);
+    REQUIRE(run("subdivide " + tet.string() + " -o " + two + " --scheme " + scheme + " --levels 2").exit_code == 0);
+    REQUIRE(run("subdivide " + two + " -o " + again + " --scheme " + scheme + " --levels 1").exit_code == 0);
+    REQUIRE(run("subdivide " + tet.string() + " -o " + three + " --scheme " + scheme + " --levels 3").exit_code == 0);
+    std::istringstream a(read_file(again)), b(read_file(three));
+    std::string magic_a, magic_b;
+    int va = 0, fa = 0, ea = 0, vb = 0, fb = 0, eb = 0;
+    a >> magic_a >> va >> fa >> ea;
+    b >> magic_b >> vb >> fb >> eb;
+    REQUIRE(va == vb);
+    REQUIRE(fa == fb);
+    double worst = 0;
+    for (int i = 0; i < 3 * va; ++i) {
+      double x = 0, y = 0;
+      a >> x;
+      b >> y;
+      worst = std::max(worst, std::abs(x - y));
+    }
+    CHECK(worst < 1e-6);
+    int same_faces = 0;
+    for (int f = 0; f < fa; ++f) {
+      int na = 0, nb = 0, a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
+      a >> na >> a0 >> a1 >> a2;
+      b >> nb >> b0 >> b1 >> b2;
+      same_faces += na == nb && a0 == b0 && a1 == b1 && a2 == b2;
+    }
+    CHECK(same_faces == fa);
+  }
+  fs::remove_all(dir);
+}
+
 TEST_CASE("fit writes a control mesh whose Loop limit interpolates the input", "[cli]") {
   const fs::path dir = scratch();
   const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
