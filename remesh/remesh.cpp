@@ -387,13 +387,8 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // (a 3.3 M-vertex mesh: 125 ms to recover, 150 to count; wasted when it is not recognized,
     // which then takes much longer anyway). Where no thread can be started, libstdc++ runs it
     // at get() or wait() instead (the deferred policy).
-    auto count_coincident = [&mesh] {
-      const std::vector<std::uint32_t> first = first_at_same_position(mesh.positions);
-      std::size_t coincident = 0;
-      for (std::uint32_t v = 0; v < first.size(); ++v) coincident += first[v] != v;
-      return coincident;
-    };
-    std::future<std::size_t> coincident = std::async(std::launch::async | std::launch::deferred, count_coincident);
+    std::future<std::size_t> coincident = std::async(std::launch::async | std::launch::deferred,
+                                                     [&mesh] { return coincident_vertex_count(mesh.positions); });
     std::optional<SemiRegularMesh> recovered = recover_in_level_order(mesh);
     in_level_order = recovered.has_value();
     if (recovered && recovered->hierarchy.levels() >= recognized_levels &&

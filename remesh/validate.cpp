@@ -143,10 +143,7 @@ MeshReport validate_mesh(const PolygonMesh& mesh) {
   }
   r.bbox_diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                               (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  {
-    const std::vector<std::uint32_t> first = first_at_same_position(p);  // weld.h
-    for (std::size_t v = 0; v < vertex_count; ++v) r.duplicate_vertices += first[v] != v;
-  }
+  r.duplicate_vertices = coincident_vertex_count(p);  // weld.h
 
   // ---- faces: corner counts, index range, repeated indices -> usable ----
   const std::vector<std::uint32_t>& corner_vertex = mesh.face_indices;

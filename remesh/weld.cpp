@@ -27,6 +27,13 @@ std::vector<std::uint32_t> first_at_same_position(std::span<const double> p) {
   return into;
 }
 
+std::size_t coincident_vertex_count(std::span<const double> positions) {
+  const std::vector<std::uint32_t> first = first_at_same_position(positions);
+  std::size_t count = 0;
+  for (std::size_t v = 0; v < first.size(); ++v) count += first[v] != v;
+  return count;
+}
+
 Welding weld_coincident(const TriangleMesh& mesh) {
   const std::vector<double>& p = mesh.positions;
   const std::size_t n = mesh.vertex_count();

@@ -28,6 +28,10 @@ struct Welding {
 /// that are not their own (duplicate_vertices), weld_coincident() joins them.
 std::vector<std::uint32_t> first_at_same_position(std::span<const double> positions);
 
+/// The vertices that are not their own first_at_same_position(): those that coincide with an
+/// earlier one (validate_mesh()'s duplicate_vertices, a recognized remesh's coincident_vertices).
+std::size_t coincident_vertex_count(std::span<const double> positions);
+
 /// Joins every vertex into the first one at exactly the same position (coordinates equal as
 /// numbers: -0 and +0 alike; non-finite positions are never joined). A face whose corners become
 /// the same vertex twice is dropped, and so is a face that becomes a copy of an earlier one (two
