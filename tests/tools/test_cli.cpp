@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 
 #include "cli_run.h"
@@ -34,6 +35,34 @@ std::string read_file(const fs::path& path) {
 const char* kTetrahedron = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
 long count_lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+
+/// An OFF file as the CLI writes it: its coordinates and each face's corners, in file order.
+struct OffFile {
+  std::vector<double> positions;
+  std::vector<std::vector<int>> faces;
+};
+OffFile read_off(const std::string& path) {
+  std::istringstream in(read_file(path));
+  std::string magic;
+  int vertices = 0, faces = 0, edges = 0;
+  in >> magic >> vertices >> faces >> edges;
+  OffFile off{std::vector<double>(3 * static_cast<std::size_t>(vertices)), std::vector<std::vector<int>>(faces)};
+  for (double& x : off.positions) in >> x;
+  for (std::vector<int>& face : off.faces) {
+    int n = 0;
+    in >> n;
+    face.resize(static_cast<std::size_t>(n));
+    for (int& corner : face) in >> corner;
+  }
+  return off;
+}
+
+/// The largest difference between two coordinate arrays of the same length.
+double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
+}
 
 }  // namespace
 
@@ -102,29 +131,11 @@ TEST_CASE("subdivide puts new levels on top of a level-ordered input's hierarchy
     REQUIRE(run("subdivide " + tet.string() + " -o " + two + " --scheme " + scheme + " --levels 2").exit_code == 0);
     REQUIRE(run("subdivide " + two + " -o " + again + " --scheme " + scheme + " --levels 1").exit_code == 0);
     REQUIRE(run("subdivide " + tet.string() + " -o " + three + " --scheme " + scheme + " --levels 3").exit_code == 0);
-    std::istringstream a(read_file(again)), b(read_file(three));
-    std::string magic_a, magic_b;
-    int va = 0, fa = 0, ea = 0, vb = 0, fb = 0, eb = 0;
-    a >> magic_a >> va >> fa >> ea;
-    b >> magic_b >> vb >> fb >> eb;
-    REQUIRE(va == vb);
-    REQUIRE(fa == fb);
-    double worst = 0;
-    for (int i = 0; i < 3 * va; ++i) {
-      double x = 0, y = 0;
-      a >> x;
-      b >> y;
-      worst = std::max(worst, std::abs(x - y));
-    }
-    CHECK(worst < 1e-6);
-    int same_faces = 0;
-    for (int f = 0; f < fa; ++f) {
-      int na = 0, nb = 0, a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
-      a >> na >> a0 >> a1 >> a2;
-      b >> nb >> b0 >> b1 >> b2;
-      same_faces += na == nb && a0 == b0 && a1 == b1 && a2 == b2;
-    }
-    CHECK(same_faces == fa);
+    const OffFile a = read_off(again), b = read_off(three);
+    REQUIRE(a.positions.size() == b.positions.size());
+    REQUIRE(a.faces.size() == b.faces.size());
+    CHECK(largest_difference(a.positions, b.positions) < 1e-6);
+    CHECK(a.faces == b.faces);
   }
   fs::remove_all(dir);
 }
@@ -140,20 +151,9 @@ TEST_CASE("fit writes a control mesh whose Loop limit interpolates the input", "
   CHECK_THAT(r.output, Catch::Contains("converged"));
   // The limit points of the fitted control mesh are the input's vertices (to float precision).
   REQUIRE(run("limit " + fitted + " -o " + limit + " --scheme loop").exit_code == 0);
-  std::istringstream a(read_file(fine)), b(read_file(limit));
-  std::string magic_a, magic_b;
-  int va = 0, fa = 0, ea = 0, vb = 0, fb = 0, eb = 0;
-  a >> magic_a >> va >> fa >> ea;
-  b >> magic_b >> vb >> fb >> eb;
-  REQUIRE(va == vb);
-  double worst = 0;
-  for (int i = 0; i < 3 * va; ++i) {
-    double x = 0, y = 0;
-    a >> x;
-    b >> y;
-    worst = std::max(worst, std::abs(x - y));
-  }
-  CHECK(worst < 1e-5);
+  const OffFile a = read_off(fine), b = read_off(limit);
+  REQUIRE(a.positions.size() == b.positions.size());
+  CHECK(largest_difference(a.positions, b.positions) < 1e-5);
   CHECK(run("fit " + fine + " -o " + fine).exit_code == 4);  // never over the input
   fs::remove_all(dir);
 }
