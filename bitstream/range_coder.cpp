@@ -54,4 +54,25 @@ RangeDecoder::RangeDecoder(std::span<const std::uint8_t> bytes)
   status_ = Status::ok;
 }
 
+RangeDecoder::RangeDecoder(ByteSource& source) {
+  std::span<const std::uint8_t> bytes = source.more(0);
+  while (bytes.size() < 5) {
+    const std::span<const std::uint8_t> longer = source.more(bytes.size());
+    if (longer.size() <= bytes.size()) break;
+    bytes = longer;
+  }
+  *this = RangeDecoder(bytes);
+  source_ = &source;
+}
+
+bool RangeDecoder::wait_for_bytes() {
+  const auto used = static_cast<std::size_t>(next_ - begin_), have = static_cast<std::size_t>(end_ - begin_);
+  const std::span<const std::uint8_t> bytes = source_->more(have);
+  if (bytes.size() <= have) return false;
+  begin_ = bytes.data();
+  next_ = begin_ + used;
+  end_ = begin_ + bytes.size();
+  return true;
+}
+
 }  // namespace meshlift

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <optional>
 
 #include "base_mesh_coder.h"
 #include "base_values.h"
@@ -96,26 +97,29 @@ struct Storage {
   std::vector<VertexChannel> channels;
 };
 
-/// decode(), its output arrays in `storage`'s (taken from it) when a caller hands some over: then
-/// they keep their capacity (no shrink_to_fit), which the next call reuses.
-DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOptions& options, Storage* storage) {
-  const std::span<const std::uint8_t> prefix = bytes.first(std::min(bytes.size(), options.max_bytes));
-  ParsedStream stream;
-  if (DecodeResult r = parse(prefix, options.limits, stream); r.status != Status::ok) return r;
-  const StreamHeader& header = stream.header;
+/// What a decode knows before its first coefficient: the header, and the hierarchy its base
+/// refines to, checked against the caller's limits.
+struct Prepared {
+  StreamHeader header;
+  std::optional<SemiRegularHierarchy> hierarchy;
+  int components() const { return header.components(); }
+};
 
-  // Base mesh.
+/// Decodes the base mesh and builds the hierarchy (FORMAT.md §3-4), every count checked against
+/// the limits and the bytes present before the allocation it sizes. On success fills `out`.
+DecodeResult prepare(const ParsedStream& stream, const DecodeLimits& limits, Prepared& out) {
+  const StreamHeader& header = stream.header;
   if (header.base_faces > kMaxFacesPerBaseByte * stream.base->payload.size() + 1024)
     return failure(Status::corrupt, "the BASE chunk at byte " + std::to_string(stream.base->offset) + " is too short for " +
                                         std::to_string(header.base_faces) + " faces");
   if (header.base_vertices > 3 * std::uint64_t{header.base_faces})
     return failure(Status::corrupt, std::to_string(header.base_vertices) + " base vertices cannot all lie on " +
                                         std::to_string(header.base_faces) + " faces");
-  if (kDecodeBytesPerBaseFace * header.base_faces > options.limits.max_memory_bytes)
+  if (kDecodeBytesPerBaseFace * header.base_faces > limits.max_memory_bytes)
     return failure(Status::limit_exceeded, "decoding " + std::to_string(header.base_faces) + " base faces may take " +
                                                std::to_string(kDecodeBytesPerBaseFace * header.base_faces) +
                                                " bytes, above the memory budget of " +
-                                               std::to_string(options.limits.max_memory_bytes));
+                                               std::to_string(limits.max_memory_bytes));
   std::vector<std::uint32_t> triangles;
   if (!base_mesh::decode_faces(stream.base->payload, header.base_vertices, header.base_faces, triangles))
     return failure(Status::corrupt, "the base mesh connectivity in the BASE chunk at byte " +
@@ -135,125 +139,173 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
   }
   const RefinedSize refined = refined_size(base, header.levels);
   const double vertices = refined.vertices;
-  if (vertices > static_cast<double>(options.limits.max_vertices))
+  if (vertices > static_cast<double>(limits.max_vertices))
     return failure(Status::limit_exceeded, "the stream refines to " + std::to_string(static_cast<std::uint64_t>(vertices)) +
-                                               " vertices (limit " + std::to_string(options.limits.max_vertices) + ")");
+                                               " vertices (limit " + std::to_string(limits.max_vertices) + ")");
   // max_vertices <= 2^64 / kDecodeBytesPerVertex is not assumed: compare in double.
   const int K = header.components();
   const double per_vertex = static_cast<double>(kDecodeBytesPerVertex) +
                             static_cast<double>(kDecodeBytesPerChannelComponent) * (K - zerotree::kGeometryComponents);
   const double memory = per_vertex * std::max(vertices, refined.faces / 2);
-  if (memory > static_cast<double>(options.limits.max_memory_bytes))
+  if (memory > static_cast<double>(limits.max_memory_bytes))
     return failure(Status::limit_exceeded, "decoding " + std::to_string(static_cast<std::uint64_t>(vertices)) +
                                                " vertices may take " + std::to_string(static_cast<std::uint64_t>(memory)) +
                                                " bytes, above the memory budget of " +
-                                               std::to_string(options.limits.max_memory_bytes));
-
+                                               std::to_string(limits.max_memory_bytes));
   try {
     // Without the finest level's faces until the end (the largest array; nothing reads it before)
     // and without the stored coefficient tree (the Forest reads it off the topologies). Without
     // the topology of level L - 1 either (but for the mean-preserving update's tables): the
     // synthesis, the frames and the output faces read it off level L - 2 (a quarter of the
     // size), and the Forest never reads it.
-    SemiRegularHierarchy h(std::move(base), header.levels, false, false,
-                           header.scheme != Scheme::loop && header.mean_preserving_update);
+    out.hierarchy.emplace(std::move(base), header.levels, false, false,
+                          header.scheme != Scheme::loop && header.mean_preserving_update);
+  } catch (const std::bad_alloc&) {
+    return failure(Status::limit_exceeded, "not enough memory to decode this stream");
+  } catch (const MeshError& e) {
+    return failure(Status::corrupt, e.what());
+  }
+  out.header = header;
+  return {};
+}
+
+DecodeResult corrupt_base_part() {
+  return failure(Status::corrupt, "the base part of the coefficient stream holds a value out of range, or an "
+                                  "invalid integer code");
+}
+
+/// The significant coefficients dequantized into `values` (K per vertex, vertex-major, the others
+/// 0): value = midpoint * step_c / w_j (FORMAT.md §5).
+void dequantize(const Prepared& p, const zerotree::Decoded& decoded, std::vector<double>& values) {
+  const StreamHeader& header = p.header;
+  const int K = p.components();
+  const std::size_t k_stride = static_cast<std::size_t>(K);
+  std::vector<double> base_step(k_stride), detail_step(k_stride);
+  for (int c = 0; c < K; ++c) {
+    base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
+    detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
+  }
+  // Insignificant coefficients are 0 (the zeros the vector starts with).
+  // Made resident in one system call (large_array.h): the values are the largest array written here.
+  assign_large(values, std::size_t{p.hierarchy->vertex_count(header.levels)} * k_stride);
+  decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
+    const auto c = static_cast<std::size_t>(x.component);
+    values[k_stride * x.vertex + c] = zerotree::dequantize(x.steps(), (x.level == 0 ? base_step : detail_step)[c],
+                                                           header.level_weights[static_cast<std::size_t>(x.level)]);
+  });
+}
+
+/// How far the coefficient stream got, for the result.
+struct Progress {
+  int last_plane = -1;
+  bool all_planes = false;  ///< every plane decoded
+  std::uint32_t base_decoded = 0;
+  std::size_t prefix_bytes = 0;
+  bool container_truncated = false;
+};
+
+/// The dequantized values synthesized level by level (to options.max_level) into the result's
+/// mesh and channels. `release` lets the finest faces be taken from the hierarchy (a decode
+/// that does not need it again) instead of copied.
+DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, const Progress& progress,
+                        const DecodeOptions& options, Storage* storage) {
+  const StreamHeader& header = p.header;
+  SemiRegularHierarchy& h = *p.hierarchy;
+  const int L = header.levels;
+  const int K = p.components();
+  const std::size_t k_stride = static_cast<std::size_t>(K);
+  DecodeResult result;
+  result.levels = L;
+  result.level = options.max_level < 0 ? L : std::min(options.max_level, L);
+  // Level by level (synthesize_level: at most one level's stencil tables in memory at once, for
+  // Loop a block of them). With local frames, the details of level j + 1 are in the frames of
+  // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
+  // rate).
+  const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
+  // The vertex normals of every level in one array, sized for the largest (the last) level.
+  std::vector<frames::Vec3> normals;
+  if (header.local_frames && result.level > 0) reserve_large(normals, h.vertex_count(result.level - 1));
+  for (int j = 0; j < result.level; ++j) {
+    if (!header.local_frames) {
+      synthesize_level(h, wavelets, j, values, K);
+      continue;
+    }
+    // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache.
+    frames::LevelFrames level_frames(h, j, values, K, std::move(normals));
+    const std::uint32_t first_odd = h.vertex_count(j);
+    synthesize_level(h, wavelets, j, values, K, [&](std::uint32_t first, std::uint32_t count) {
+      level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
+    });
+    normals = std::move(level_frames).release_storage();
+  }
+  normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
+  // The centres back (synthesis reproduces constants, so adding them after it is adding them
+  // to the base values; the encoder's closed loop works on the centred values too).
+  const std::uint32_t n = h.vertex_count(result.level);
+  std::size_t offset = zerotree::kGeometryComponents;
+  for (const ChannelQuantization& c : header.channels) {
+    const std::size_t m = static_cast<std::size_t>(c.components);
+    VertexChannel channel{c.components, {}};
+    if (storage != nullptr && result.channels.size() < storage->channels.size())
+      channel.values = std::move(storage->channels[result.channels.size()].values);
+    assign_large(channel.values, std::size_t{n} * m);
+    for (std::uint32_t v = 0; v < n; ++v)
+      for (std::size_t k = 0; k < m; ++k) channel.values[m * v + k] = values[k_stride * v + offset + k] + c.center[k];
+    offset += m;
+    result.channels.push_back(std::move(channel));
+  }
+  // The positions compacted in place (3v + k <= Kv + k: every read is ahead of the writes), so
+  // no second copy of the values at the peak.
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t k = 0; k < 3; ++k) values[3 * v + k] = values[k_stride * v + k] + header.center[k];
+  values.resize(std::size_t{n} * 3);
+  // A no-op at full level without channels; else the result holds no spare room (unless the
+  // caller hands its arrays over again: then the room is theirs to keep).
+  if (storage == nullptr) values.shrink_to_fit();
+  result.mesh.positions = std::move(values);
+  std::vector<std::uint32_t> faces;
+  if (storage != nullptr) faces = std::move(storage->faces);
+  if (result.level == L && release)
+    std::move(h).release_finest_triangles(faces);
+  else
+    h.copy_triangles(result.level, faces);
+  result.mesh.triangles = std::move(faces);
+  result.bit_plane = progress.last_plane;
+  result.base_vertices_decoded = progress.base_decoded;
+  result.bytes_used = progress.prefix_bytes;
+  result.complete = progress.all_planes && !progress.container_truncated;
+  return result;
+}
+
+/// decode(), its output arrays in `storage`'s (taken from it) when a caller hands some over: then
+/// they keep their capacity (no shrink_to_fit), which the next call reuses.
+DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOptions& options, Storage* storage) {
+  const std::span<const std::uint8_t> prefix = bytes.first(std::min(bytes.size(), options.max_bytes));
+  ParsedStream stream;
+  if (DecodeResult r = parse(prefix, options.limits, stream); r.status != Status::ok) return r;
+  Prepared p;
+  if (DecodeResult r = prepare(stream, options.limits, p); r.status != Status::ok) return r;
+  const StreamHeader& header = p.header;
+  try {
     // The base part, then the bit planes (FORMAT.md §5). A stream cut inside the base part
-    // leaves the later base vertices at 0, and the bit planes then stop at their first decision.
+    // leaves the later base vertices at their predictions, and the bit planes then stop at their
+    // first decision.
     RangeDecoder decoder(stream.coefficients);
     std::vector<std::int64_t> base_high;
     bool base_corrupt = false;
-    const std::uint32_t base_decoded =
-        base_values::decode(h.topology(0), K, header.base_plane, header.top_plane, decoder, base_high, base_corrupt);
-    if (base_corrupt)
-      return failure(Status::corrupt, "the base part of the coefficient stream holds a value out of range, or an "
-                                      "invalid integer code");
-    zerotree::Decoded decoded =
-        zerotree::decode(zerotree::Forest(h), K, header.top_plane, header.base_plane, base_high, decoder);
+    const std::uint32_t base_decoded = base_values::decode(p.hierarchy->topology(0), p.components(), header.base_plane,
+                                                           header.top_plane, decoder, base_high, base_corrupt);
+    if (base_corrupt) return corrupt_base_part();
+    zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(*p.hierarchy), p.components(), header.top_plane,
+                                                 header.base_plane, base_high, decoder);
     base_high = std::vector<std::int64_t>();  // freed (the LSP holds what it gave)
-
-    // Dequantize: value = midpoint * step_c / w_j (FORMAT.md §5).
-    const int L = header.levels;
-    const std::size_t k_stride = static_cast<std::size_t>(K);
-    std::vector<double> base_step(k_stride), detail_step(k_stride);
-    for (int c = 0; c < K; ++c) {
-      base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
-      detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
-    }
-    // Insignificant coefficients are 0 (the zeros the vector starts with).
-    // Made resident in one system call (large_array.h): the values are the largest array written here.
     std::vector<double> values;
     if (storage != nullptr) values = std::move(storage->positions);
-    assign_large(values, std::size_t{h.vertex_count(L)} * k_stride);
-    decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
-      const auto c = static_cast<std::size_t>(x.component);
-      values[k_stride * x.vertex + c] = zerotree::dequantize(x.steps(), (x.level == 0 ? base_step : detail_step)[c],
-                                                             header.level_weights[static_cast<std::size_t>(x.level)]);
-    });
-
-    DecodeResult result;
-    result.levels = L;
-    result.level = options.max_level < 0 ? L : std::min(options.max_level, L);
-    const bool all_planes = decoded.complete;
-    const int last_plane = decoded.last_plane;
+    dequantize(p, decoded, values);
+    const Progress progress{decoded.last_plane, decoded.complete, base_decoded, prefix.size(),
+                            stream.container.truncated()};
     decoded = {};  // freed before the stencil tables are built: lower peak memory
-    // Level by level (synthesize_level: at most one level's stencil tables in memory at once, for
-    // Loop a block of them). With local frames, the details of level j + 1 are in the frames of
-    // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
-    // rate).
-    const WaveletOptions wavelets{header.scheme, header.mean_preserving_update};
-    // The vertex normals of every level in one array, sized for the largest (the last) level.
-    std::vector<frames::Vec3> normals;
-    if (header.local_frames && result.level > 0) reserve_large(normals, h.vertex_count(result.level - 1));
-    for (int j = 0; j < result.level; ++j) {
-      if (!header.local_frames) {
-        synthesize_level(h, wavelets, j, values, K);
-        continue;
-      }
-      // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache.
-      frames::LevelFrames level_frames(h, j, values, K, std::move(normals));
-      const std::uint32_t first_odd = h.vertex_count(j);
-      synthesize_level(h, wavelets, j, values, K, [&](std::uint32_t first, std::uint32_t count) {
-        level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
-      });
-      normals = std::move(level_frames).release_storage();
-    }
-    normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
-    // The centres back (synthesis reproduces constants, so adding them after it is adding them
-    // to the base values; the encoder's closed loop works on the centred values too).
-    const std::uint32_t n = h.vertex_count(result.level);
-    std::size_t offset = zerotree::kGeometryComponents;
-    for (const ChannelQuantization& c : header.channels) {
-      const std::size_t m = static_cast<std::size_t>(c.components);
-      VertexChannel channel{c.components, {}};
-      if (storage != nullptr && result.channels.size() < storage->channels.size())
-        channel.values = std::move(storage->channels[result.channels.size()].values);
-      assign_large(channel.values, std::size_t{n} * m);
-      for (std::uint32_t v = 0; v < n; ++v)
-        for (std::size_t k = 0; k < m; ++k) channel.values[m * v + k] = values[k_stride * v + offset + k] + c.center[k];
-      offset += m;
-      result.channels.push_back(std::move(channel));
-    }
-    // The positions compacted in place (3v + k <= Kv + k: every read is ahead of the writes), so
-    // no second copy of the values at the peak.
-    for (std::size_t v = 0; v < n; ++v)
-      for (std::size_t k = 0; k < 3; ++k) values[3 * v + k] = values[k_stride * v + k] + header.center[k];
-    values.resize(std::size_t{n} * 3);
-    // A no-op at full level without channels; else the result holds no spare room (unless the
-    // caller hands its arrays over again: then the room is theirs to keep).
-    if (storage == nullptr) values.shrink_to_fit();
-    result.mesh.positions = std::move(values);
-    std::vector<std::uint32_t> faces;
-    if (storage != nullptr) faces = std::move(storage->faces);
-    if (result.level == L)
-      std::move(h).release_finest_triangles(faces);
-    else
-      h.copy_triangles(result.level, faces);
-    result.mesh.triangles = std::move(faces);
-    result.bit_plane = last_plane;
-    result.base_vertices_decoded = base_decoded;
-    result.bytes_used = prefix.size();
-    result.complete = all_planes && !stream.container.truncated();
-    return result;
+    return synthesize(p, true, std::move(values), progress, options, storage);
   } catch (const std::bad_alloc&) {
     return failure(Status::limit_exceeded, "not enough memory to decode this stream");
   } catch (const MeshError& e) {
@@ -261,15 +313,11 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
   }
 }
 
-}  // namespace
-
-DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options) {
-  return decode_with(bytes, options, nullptr);
-}
-
-void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result) {
+/// decode_into's handing over of the caller's arrays around `decode` (a call of decode_with).
+template <class Decode>
+void decode_into_result(DecodeResult& result, Decode&& decode) {
   Storage storage{std::move(result.mesh.positions), std::move(result.mesh.triangles), std::move(result.channels)};
-  result = decode_with(bytes, options, &storage);
+  result = decode(&storage);
   if (result.status == Status::ok) return;
   // Nothing decoded: the caller's arrays back, empty, with the storage they still hold (none
   // where the failure came after decode_with took it).
@@ -279,6 +327,16 @@ void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& optio
   result.mesh.positions.clear();
   result.mesh.triangles.clear();
   result.channels.clear();
+}
+
+}  // namespace
+
+DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& options) {
+  return decode_with(bytes, options, nullptr);
+}
+
+void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result) {
+  decode_into_result(result, [&](Storage* storage) { return decode_with(bytes, options, storage); });
 }
 
 StreamInfo inspect(std::span<const std::uint8_t> bytes) {

@@ -159,10 +159,11 @@ struct ComponentLists {
   std::unique_ptr<std::uint8_t[]> lis_tag;
   std::unique_ptr<std::uint8_t[]> lis_width;  // encoder only: bit width of the largest magnitude in the set
   std::size_t lis_size = 0;
-  // LSP (the encoder's magnitudes are whole). Capacity V.
-  SignificantList lsp;
+  // LSP (the encoder's magnitudes are whole), of capacity V: the decoder's is the Decoded's own,
+  // filled in place.
+  SignificantList& lsp;
 
-  ComponentLists(const Forest& f, bool encoder) : lsp(f.vertex_count()) {
+  ComponentLists(const Forest& f, bool encoder, SignificantList& significant) : lsp(significant) {
     const std::uint32_t V = f.vertex_count();
     std::size_t parents = f.odd_children.size() / 4;
     for (std::uint32_t v = 0; v < f.roots; ++v) parents += !f.children(v).empty();
@@ -320,6 +321,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
         lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
         lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
         ++lsp_size;
+        if constexpr (!kEncoder) l.lsp.size = lsp_size;  // Decoded is read while the decoder waits (decode_into)
         return true;
       };
 
@@ -439,6 +441,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
       const std::size_t refine_count = l.lsp.refine_count;
       for (std::size_t i = above_base ? l.lsp.preset : 0; i < refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
+        if constexpr (!kEncoder) l.lsp.refined = i;  // as stop() leaves it, for a reader while the decoder waits
         const int b = io.bit(models.refine(lsp_tag[i] & kLevelMask, c), kEncoder && (magnitude & bit_n) != 0);
         if (b < 0) {
           l.lsp.refined = i;
@@ -606,20 +609,21 @@ class DecoderIo {
   static constexpr bool kEncoder = false;
 
   /// Decodes from a copy of `decoder` (kept in registers in the passes); decoder() gives it back.
-  explicit DecoderIo(const RangeDecoder& decoder) : decoder_(decoder) {}
-  void begin_plane(int n) { last_plane_ = n; }
+  /// Each plane begun is written to `last_plane` at once (Decoded::last_plane, read while the
+  /// decoder waits for bytes).
+  DecoderIo(const RangeDecoder& decoder, int& last_plane) : decoder_(decoder), last_plane_(&last_plane) {}
+  void begin_plane(int n) { *last_plane_ = n; }
   int bit(BitModel& m, bool) { return decoder_.try_decode(m); }
   std::uint32_t magnitude(std::uint32_t, int) const { return 0; }
   bool negative(std::uint32_t, int) const { return false; }
   std::uint8_t descendants_width(std::uint32_t, int) const { return 0; }
   std::uint8_t grandchildren_width(std::uint32_t, int) const { return 0; }
 
-  int last_plane() const { return last_plane_; }
   const RangeDecoder& decoder() const { return decoder_; }
 
  private:
   RangeDecoder decoder_;
-  int last_plane_ = -1;
+  int* last_plane_;
 };
 
 }  // namespace
@@ -629,9 +633,11 @@ void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
   if (q.size != std::size_t{forest.vertex_count()} * static_cast<std::size_t>(q.components))
     throw std::invalid_argument("zerotree: the coefficients are not the forest's vertices times the components");
   if (top < 0) return;
+  std::vector<SignificantList> significant;
   std::vector<ComponentLists> lists;
+  significant.reserve(static_cast<std::size_t>(q.components));
   lists.reserve(static_cast<std::size_t>(q.components));
-  for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true);
+  for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true, significant.emplace_back(forest.vertex_count()));
   Models models;
   if (concurrent) {
     // The coder's models start as the passes' do and see the same decisions in the same order,
@@ -667,26 +673,32 @@ void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
 
 Decoded decode(const Forest& forest, int components, int top, int base_plane, std::span<const std::int64_t> base_high,
                RangeDecoder& decoder) {
+  Decoded out;
+  decode_into(forest, components, top, base_plane, base_high, decoder, out);
+  return out;
+}
+
+bool decode_into(const Forest& forest, int components, int top, int base_plane, std::span<const std::int64_t> base_high,
+                 RangeDecoder& decoder, Decoded& out) {
   if (components < 1 || components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   if (base_plane <= top && base_high.size() != std::size_t{forest.roots} * static_cast<std::size_t>(components))
     throw std::invalid_argument("zerotree: the base part's values are not the roots times the components");
-  Decoded out;
+  out = Decoded();
   out.components = components;
   out.base_plane = base_plane;
   if (top < 0) {
     out.complete = true;
-    return out;
+    return true;
   }
   std::vector<ComponentLists> lists;
+  out.significant.reserve(static_cast<std::size_t>(components));  // never moved while the run writes them
   lists.reserve(static_cast<std::size_t>(components));
-  for (int c = 0; c < components; ++c) lists.emplace_back(forest, false);
-  DecoderIo io(decoder);
+  for (int c = 0; c < components; ++c) lists.emplace_back(forest, false, out.significant.emplace_back(forest.vertex_count()));
+  DecoderIo io(decoder, out.last_plane);
   Models models;
   out.complete = run(forest, components, top, base_plane, base_high.data(), io, lists, models);
   decoder = io.decoder();
-  out.last_plane = io.last_plane();
-  for (ComponentLists& l : lists) out.significant.push_back(std::move(l.lsp));
-  return out;
+  return out.complete;
 }
 
 }  // namespace meshlift::zerotree

@@ -172,4 +172,12 @@ inline double dequantize(double steps, double step, double weight) { return step
 Decoded decode(const Forest& forest, int components, int top_plane, int base_plane,
                std::span<const std::int64_t> base_high, RangeDecoder& decoder);
 
+/// decode() into `out`, for a decoder whose bytes arrive while it runs (RangeDecoder on a
+/// ByteSource): out's lists are made before the first decision and filled in place, so that at
+/// every decision `out` holds what the decisions before it give (for_each, last_plane), the
+/// same as decode() of the bytes that had arrived. Another thread may read it while this one
+/// waits in the source for bytes (ordered by the source's lock). Returns out.complete.
+bool decode_into(const Forest& forest, int components, int top_plane, int base_plane,
+                 std::span<const std::int64_t> base_high, RangeDecoder& decoder, Decoded& out);
+
 }  // namespace meshlift::zerotree

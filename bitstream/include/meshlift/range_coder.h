@@ -137,10 +137,28 @@ class RangeEncoder {
 /// initial code makes status() == corrupt, also exhausted from the start. Other corruption
 /// cannot be detected here: the symbols are then merely wrong, which is what chunk checksums
 /// are for.
+/// Bytes that go on arriving while a RangeDecoder reads them (a streaming decode on a thread of
+/// its own, codec/decoder.cpp): the decoder asks for more when it reaches the end of what it holds,
+/// so that it stops exactly where a decoder of the bytes so far would stop, and goes on from there.
+class ByteSource {
+ public:
+  /// Waits until more than `have` bytes have arrived, or until no more will come. Returns every
+  /// byte so far (the first `have` as before; the span may have moved), or a span of `have` bytes
+  /// or fewer when no more will come.
+  virtual std::span<const std::uint8_t> more(std::size_t have) = 0;
+
+ protected:
+  ~ByteSource() = default;
+};
+
 class RangeDecoder {
  public:
   RangeDecoder() = default;  ///< an empty stream: exhausted, status() == truncated
   explicit RangeDecoder(std::span<const std::uint8_t> bytes);
+  /// Reads from `source`, waiting in it whenever a decision needs a byte that has not arrived
+  /// (first for the 5 initial bytes). The symbols are those of the span decoder over the bytes that
+  /// arrive; it is exhausted only once `source` says no more will come. `source` must outlive it.
+  explicit RangeDecoder(ByteSource& source);
 
   int decode(BitModel& model) {
     const int bit = try_decode(model);
@@ -191,7 +209,7 @@ class RangeDecoder {
  private:
   /// One normalization step: shifts in the next byte, or marks the stream exhausted.
   bool refill() {
-    if (next_ == end_) {
+    if (next_ == end_ && !(source_ != nullptr && status_ == Status::ok && wait_for_bytes())) {
       if (status_ == Status::ok) status_ = Status::truncated;
       range_ = 0;  // keeps every later call on this slow path
       return false;
@@ -201,6 +219,10 @@ class RangeDecoder {
     return true;
   }
 
+  /// Asks source_ for more bytes; false if none will come.
+  bool wait_for_bytes();
+
+  ByteSource* source_ = nullptr;
   const std::uint8_t* begin_ = nullptr;
   const std::uint8_t* next_ = nullptr;
   const std::uint8_t* end_ = nullptr;
