@@ -190,6 +190,33 @@ int main(int argc, char** argv) {
                                                                        : "(decode_into: OUTPUT DIFFERS)");
   }
   {
+    // A viewer receiving the whole file in 16 pieces and asking for the mesh after each
+    // (Decoder::mesh into one kept result), against decoding each of those prefixes again
+    // (decode_into, what mesh() did before the Decoder kept its own decode going).
+    constexpr std::size_t kPieces = 16;
+    const std::size_t piece = (file.size() + kPieces - 1) / kPieces;
+    DecodeResult streamed, again;
+    const Timing stream_time = best_of(runs, [&] {
+      Decoder decoder;
+      for (std::size_t at = 0; at < file.size(); at += piece) {
+        decoder.push(std::span(file).subspan(at, std::min(piece, file.size() - at)));
+        decoder.mesh(streamed);
+      }
+    });
+    const Timing again_time = best_of(runs, [&] {
+      for (std::size_t at = 0; at < file.size(); at += piece) {
+        DecodeOptions o;
+        o.max_bytes = std::min(at + piece, file.size());
+        decode_into(file, o, again);
+      }
+    });
+    const bool same = output_hash(streamed) == cold_hashes[1] && output_hash(again) == cold_hashes[1];
+    print_timing("stream, 16 meshes", stream_time, V * kPieces,
+                 same ? "(Decoder::mesh after each 16th of the file; the whole file's output at the end)"
+                      : "(OUTPUT DIFFERS from the whole file's)");
+    print_timing("16 prefixes again", again_time, V * kPieces, "(decode_into of the same 16 prefixes)");
+  }
+  {
     // The wavelet `meshlift encode --scheme auto` takes on remeshes, butterfly (its normal lines
     // go through butterfly's prediction): the same mesh and budget, decoded. Its stencil rows are
     // built per decode (8 sources each), above the base read off the level below as Loop's are.

@@ -52,7 +52,8 @@ Status ContainerReader::parse(std::span<const std::uint8_t> file, const Containe
   chunks_.clear();
   error_ = {};
   version_ = 0;
-
+  base_ = file.data();
+  end_of_complete_ = container::kFileHeaderBytes;
   // File header: magic[4] | version u8 | flags u8 | reserved u16 (FORMAT.md §1).
   for (std::size_t i = 0; i < 4 && i < file.size(); ++i) {
     if (file[i] != container::kMagic[i]) return fail(Status::bad_magic, i);
@@ -62,13 +63,26 @@ Status ContainerReader::parse(std::span<const std::uint8_t> file, const Containe
   if (version_ != container::kFormatVersion) return fail(Status::unsupported_version, 4);
   if (file[5] != 0) return fail(Status::reserved_bits_set, 5);
   if (file[6] != 0 || file[7] != 0) return fail(Status::reserved_bits_set, file[6] != 0 ? 6 : 7);
+  return parse_chunks(file, limits);
+}
 
-  ByteReader reader(file.subspan(container::kFileHeaderBytes));
+Status ContainerReader::parse_more(std::span<const std::uint8_t> file, const ContainerLimits& limits) {
+  // Only after a parse that read the file header and found no error, of a prefix of `file`.
+  if (version_ == 0 || error_.status != Status::ok || base_ == nullptr || file.size() < end_of_complete_)
+    return parse(file, limits);
+  if (!chunks_.empty() && !chunks_.back().complete) chunks_.pop_back();
+  for (Chunk& chunk : chunks_)  // the same bytes, perhaps moved
+    chunk.payload = file.subspan(static_cast<std::size_t>(chunk.payload.data() - base_), chunk.payload.size());
+  base_ = file.data();
+  return parse_chunks(file, limits);
+}
+
+Status ContainerReader::parse_chunks(std::span<const std::uint8_t> file, const ContainerLimits& limits) {
+  ByteReader reader(file.subspan(end_of_complete_));
   while (reader.remaining() > 0) {
     const std::size_t index = chunks_.size();
-    const std::size_t offset = container::kFileHeaderBytes + reader.position();
+    const std::size_t offset = end_of_complete_ + reader.position();
     if (index >= limits.max_chunks) return fail(Status::limit_exceeded, offset, index);
-
     Chunk chunk;
     chunk.offset = offset;
     if (reader.u32(chunk.tag) != Status::ok) {
@@ -83,7 +97,6 @@ Status ContainerReader::parse(std::span<const std::uint8_t> file, const Containe
       break;
     }
     if (chunk.declared_size > limits.max_chunk_bytes) return fail(Status::limit_exceeded, offset, index);
-
     // declared_size <= max_chunk_bytes, but a caller could raise that above SIZE_MAX on 32-bit.
     const std::size_t available = reader.remaining();
     if (chunk.declared_size > available) {  // cut inside the payload
@@ -102,6 +115,9 @@ Status ContainerReader::parse(std::span<const std::uint8_t> file, const Containe
     chunk.complete = true;
     chunks_.push_back(chunk);
   }
+  // Where the next parse_more() starts: after the last complete chunk.
+  end_of_complete_ = chunks_.empty() || chunks_.back().complete ? end_of_complete_ + reader.position()
+                                                                : chunks_.back().offset;
   return Status::ok;
 }
 

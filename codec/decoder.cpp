@@ -3,7 +3,10 @@
 // present before anything is allocated; failures are numbered statuses, never exceptions.
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <new>
+#include <thread>
 #include <optional>
 
 #include "base_mesh_coder.h"
@@ -39,9 +42,14 @@ struct ParsedStream {
   std::vector<std::uint8_t> coefficients;  ///< the COEF payloads, concatenated
 };
 
-/// Parses container and header; on success fills `out`, else returns the failure.
-DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limits, ParsedStream& out) {
-  const Status container_status = out.container.parse(bytes);
+/// Reads the header and finds the chunks in out.container, whose parse of `bytes` returned
+/// `container_status`; on success fills `out` (the COEF payloads concatenated, if `gather`), else
+/// returns the failure.
+DecodeResult read_chunks(Status container_status, std::span<const std::uint8_t> bytes, const DecodeLimits& limits,
+                         ParsedStream& out, bool gather) {
+  out.header = StreamHeader();
+  out.base = nullptr;
+  out.coefficients.clear();
   if (container_status != Status::ok) {
     const ContainerError& e = out.container.error();
     const std::uint8_t version = out.container.version();
@@ -73,7 +81,7 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
     if (c.tag == kTagBaseMesh && i == 1) {
       out.base = &c;
     } else if (c.tag == kTagCoefficients && i >= 2) {
-      out.coefficients.insert(out.coefficients.end(), c.payload.begin(), c.payload.end());
+      if (gather) out.coefficients.insert(out.coefficients.end(), c.payload.begin(), c.payload.end());
     } else if (c.tag == 0 && !c.complete) {
       // cut inside a chunk's tag: nothing of it is usable
     } else if (c.tag == kTagHeader || c.tag == kTagBaseMesh || c.tag == kTagCoefficients) {
@@ -87,6 +95,11 @@ DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limi
     return failure(Status::truncated, "the stream ends before its base mesh is complete (at byte " +
                                           std::to_string(bytes.size()) + ")");
   return {};
+}
+
+/// Parses container and header; on success fills `out`, else returns the failure.
+DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limits, ParsedStream& out) {
+  return read_chunks(out.container.parse(bytes), bytes, limits, out, true);
 }
 
 
@@ -337,6 +350,218 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
 
 void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result) {
   decode_into_result(result, [&](Storage* storage) { return decode_with(bytes, options, storage); });
+}
+
+// The streaming Decoder. The caller's thread parses the container on every push (cheap: chunk
+// headers and checksums) and hands the coefficient bytes on; a worker thread runs the base part
+// and the bit planes (the same code as decode()) on a RangeDecoder that waits in more() for
+// bytes. While it waits, what it has decoded is exactly what decode() of the bytes so far would
+// have (RangeDecoder's prefix contract; zerotree::decode_into keeps its Decoded current at every
+// decision), so mesh() reads it there, under the mutex, and synthesizes from it.
+struct Decoder::State final : ByteSource {
+  explicit State(DecodeOptions o) : options(std::move(o)) {}
+  ~State() {
+    if (!worker.joinable()) return;
+    {
+      const std::lock_guard lock(mutex);
+      closed = true;
+    }
+    changed.notify_all();
+    worker.join();
+  }
+
+  DecodeOptions options;
+  std::vector<std::uint8_t> received;
+
+  // The caller's thread only.
+  enum class Mode {
+    before_worker,  ///< the header or base mesh is not complete yet: mesh() decodes the prefix
+    worker,         ///< the worker decodes the coefficients as they arrive
+    again,          ///< no worker (a malformed container, header or base; no thread): mesh() decodes the prefix
+  };
+  Mode mode = Mode::before_worker;
+  ParsedStream stream;  ///< the prefix so far (its container parsed a push at a time)
+  std::size_t next_chunk = 2, next_byte = 0;  ///< the first COEF byte not yet handed on
+  Prepared prepared;
+  std::optional<zerotree::Forest> forest;
+  std::size_t prefix_bytes = 0;
+  bool container_truncated = false;
+
+  // Shared with the worker, under `mutex`; `changed` is notified on every change of it.
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<std::uint8_t> arrived;  ///< the coefficient bytes (COEF payloads) so far
+  bool closed = false;                ///< no more bytes will come (the Decoder is going away)
+  bool waiting = false;               ///< the worker waits in more() for bytes past `taken`
+  bool in_bit_planes = false;         ///< the base part is decoded, base_decoded set
+  bool finished = false;              ///< the worker has returned
+  std::uint32_t base_decoded = 0;
+  DecodeResult worker_failure;  ///< status not ok: the worker's decode failed (a corrupt base part, no memory)
+  zerotree::Decoded decoded;
+  std::vector<std::uint8_t> taken;  ///< the worker's copy of `arrived`, as far as it has read
+
+  std::thread worker;
+
+  std::span<const std::uint8_t> prefix() const {
+    return std::span(received).first(std::min(received.size(), options.max_bytes));
+  }
+
+  // The worker's byte source: waits until bytes past `have` (= taken.size()) arrive.
+  std::span<const std::uint8_t> more(std::size_t have) override {
+    std::unique_lock lock(mutex);
+    while (!closed && arrived.size() <= have) {
+      waiting = true;
+      changed.notify_all();
+      changed.wait(lock);
+    }
+    waiting = false;
+    taken.insert(taken.end(), arrived.begin() + static_cast<std::ptrdiff_t>(taken.size()), arrived.end());
+    return taken;
+  }
+
+  void finish(DecodeResult result) {
+    {
+      const std::lock_guard lock(mutex);
+      worker_failure = std::move(result);
+      finished = true;
+    }
+    changed.notify_all();
+  }
+
+  // The worker: what decode_with does between prepare() and dequantize(), on bytes that arrive.
+  void run() {
+    try {
+      const StreamHeader& header = prepared.header;
+      RangeDecoder decoder(*this);
+      std::vector<std::int64_t> base_high;
+      bool base_corrupt = false;
+      const std::uint32_t base = base_values::decode(prepared.hierarchy->topology(0), prepared.components(),
+                                                     header.base_plane, header.top_plane, decoder, base_high, base_corrupt);
+      if (base_corrupt) return finish(corrupt_base_part());
+      {
+        const std::lock_guard lock(mutex);
+        base_decoded = base;
+        in_bit_planes = true;
+      }
+      zerotree::decode_into(*forest, prepared.components(), header.top_plane, header.base_plane, base_high, decoder,
+                            decoded);
+      finish({});
+    } catch (const std::bad_alloc&) {
+      finish(failure(Status::limit_exceeded, "not enough memory to decode this stream"));
+    } catch (const std::exception& e) {
+      finish(failure(Status::corrupt, e.what()));
+    }
+  }
+
+  // Called after each push: parses the new bytes of the prefix (ContainerReader::parse_more),
+  // starts the worker once the header and base mesh are in, and hands it the coefficient bytes
+  // that came.
+  void update() {
+    if (mode == Mode::again) return;
+    const std::span<const std::uint8_t> bytes = prefix();
+    if (read_chunks(stream.container.parse_more(bytes, {}), bytes, options.limits, stream, false).status != Status::ok) {
+      // Before the base mesh is in, a later push may complete it; after, the stream is broken
+      // for good (a checksum, a chunk out of place): every mesh() reports it, from decode().
+      if (mode == Mode::worker) stop_worker();
+      return;
+    }
+    if (mode == Mode::before_worker) {
+      if (prepare(stream, options.limits, prepared).status != Status::ok) {
+        mode = Mode::again;
+        return;
+      }
+      try {
+        forest.emplace(*prepared.hierarchy);
+        worker = std::thread([this] { run(); });
+      } catch (const std::exception&) {  // no memory for the forest, or no thread: decode() each time
+        mode = Mode::again;
+        return;
+      }
+      mode = Mode::worker;
+    }
+    prefix_bytes = bytes.size();
+    container_truncated = stream.container.truncated();
+    {
+      // The COEF payloads' new bytes, from the chunk and offset the last push reached.
+      const std::lock_guard lock(mutex);
+      const std::vector<Chunk>& chunks = stream.container.chunks();
+      for (; next_chunk < chunks.size(); ++next_chunk) {
+        const Chunk& c = chunks[next_chunk];
+        const bool coefficients = c.tag == kTagCoefficients;
+        if (coefficients)
+          arrived.insert(arrived.end(), c.payload.begin() + static_cast<std::ptrdiff_t>(next_byte), c.payload.end());
+        if (!c.complete) {  // cut inside it: go on from here next time
+          next_byte = coefficients ? c.payload.size() : 0;
+          break;
+        }
+        next_byte = 0;
+      }
+    }
+    changed.notify_all();
+  }
+
+  void stop_worker() {
+    mode = Mode::again;
+    {
+      const std::lock_guard lock(mutex);
+      closed = true;
+    }
+    changed.notify_all();
+    if (worker.joinable()) worker.join();
+  }
+
+  void mesh(DecodeResult& result, Storage* storage) {
+    if (mode == Mode::worker) {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return finished || (waiting && taken.size() >= arrived.size()); });
+      if (worker_failure.status != Status::ok) {
+        result = worker_failure;
+        return;
+      }
+      if (in_bit_planes) {
+        std::vector<double> values;
+        if (storage != nullptr) values = std::move(storage->positions);
+        dequantize(prepared, decoded, values);
+        const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix_bytes,
+                                container_truncated};
+        lock.unlock();
+        try {
+          result = synthesize(prepared, false, std::move(values), progress, options, storage);
+        } catch (const std::bad_alloc&) {
+          result = failure(Status::limit_exceeded, "not enough memory to decode this stream");
+        }
+        return;
+      }
+      // Still in the base part (a few bytes per base vertex): decoded again below.
+    }
+    result = decode_with(prefix(), options, storage);
+  }
+};
+
+Decoder::Decoder(DecodeOptions options) : state_(std::make_unique<State>(std::move(options))) {}
+Decoder::~Decoder() = default;
+Decoder::Decoder(Decoder&&) noexcept = default;
+Decoder& Decoder::operator=(Decoder&&) noexcept = default;
+
+void Decoder::push(std::span<const std::uint8_t> bytes) {
+  state_->received.insert(state_->received.end(), bytes.begin(), bytes.end());
+  state_->update();
+}
+
+std::size_t Decoder::bytes_received() const { return state_->received.size(); }
+
+DecodeResult Decoder::mesh() const {
+  DecodeResult result;
+  state_->mesh(result, nullptr);
+  return result;
+}
+
+void Decoder::mesh(DecodeResult& result) const {
+  decode_into_result(result, [&](Storage* storage) {
+    DecodeResult r;
+    state_->mesh(r, storage);
+    return r;
+  });
 }
 
 StreamInfo inspect(std::span<const std::uint8_t> bytes) {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -330,4 +331,51 @@ TEST_CASE("status: frozen values and names", "[status]") {
   for (int code = 0; code <= 8; ++code) {
     CHECK(std::string(describe(static_cast<Status>(code))).size() > 5);
   }
+}
+
+TEST_CASE("container: parse_more over a growing file gives parse()'s chunks and errors at every length",
+          "[container][truncation]") {
+  const auto chunks = test_chunks();
+  auto whole = build(chunks);
+  auto damaged = whole;
+  damaged[layout(chunks)[2].payload_begin + 100] ^= 0x10;  // the base mesh's checksum fails once it is whole
+  auto bad_length = whole;
+  bad_length[layout(chunks)[3].begin + 4] = 0xFF;  // a length varint of 0xFF bytes: corrupt
+  for (int limit = 0; limit < 2; ++limit)
+    for (const std::vector<std::uint8_t>* file : {&whole, &damaged, &bad_length}) {
+      ContainerLimits limits;
+      if (limit == 1) limits.max_chunk_bytes = 1000;  // the coefficient chunk exceeds it
+      // Random steps, and every chunk's boundaries (a cut between two chunks, inside a header,
+      // just before a checksum), each once.
+      std::mt19937 rng(9);
+      std::set<std::size_t> lengths;
+      for (std::size_t length = 0; length <= file->size(); length += 1 + (rng() % 3 == 0 ? 0 : rng() % 700))
+        lengths.insert(length);
+      for (const Layout& l : layout(chunks))
+        for (std::size_t at : {l.begin, l.begin + 2, l.payload_begin, l.payload_end, l.end - 1, l.end}) lengths.insert(at);
+      lengths.insert(file->size());
+      ContainerReader growing;
+      std::vector<std::uint8_t> received;  // copied into a new buffer at every step: the chunks must follow
+      for (const std::size_t length : lengths) {
+        received = std::vector<std::uint8_t>(file->begin(), file->begin() + static_cast<std::ptrdiff_t>(length));
+        INFO("length " << length << ", limit " << limit);
+        ContainerReader fresh;
+        const Status expected = fresh.parse(received, limits);
+        REQUIRE(growing.parse_more(received, limits) == expected);
+        CHECK(growing.error().offset == fresh.error().offset);
+        CHECK(growing.error().chunk_index == fresh.error().chunk_index);
+        CHECK(growing.truncated() == fresh.truncated());
+        REQUIRE(growing.chunks().size() == fresh.chunks().size());
+        for (std::size_t i = 0; i < fresh.chunks().size(); ++i) {
+          const Chunk &a = growing.chunks()[i], &b = fresh.chunks()[i];
+          CHECK(a.tag == b.tag);
+          CHECK(a.offset == b.offset);
+          CHECK(a.declared_size == b.declared_size);
+          CHECK(a.complete == b.complete);
+          CHECK(a.checksum_ok == b.checksum_ok);
+          CHECK(a.payload.data() == b.payload.data());  // both point into `received`
+          CHECK(a.payload.size() == b.payload.size());
+        }
+      }
+    }
 }

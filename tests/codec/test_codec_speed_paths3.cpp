@@ -20,30 +20,18 @@
 #include "../../codec/zerotree_coder.h"
 #include "meshlift/codec.h"
 #include "meshlift/lifting.h"
+#include "decode_results.h"
 #include "test_meshes.h"
 
 using namespace meshlift;
 
 namespace {
 
+using test::same_bits;
+using test::same_result;
+
 /// FORMAT.md §3: the edge is (nearly) along the normal when !(|t1| > 1e-12 |edge|).
 bool spec_along_normal(double t1_length, double edge_squared) { return !(t1_length > 1e-12 * std::sqrt(edge_squared)); }
-
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
-bool same_result(const DecodeResult& a, const DecodeResult& b) {
-  if (a.status != b.status || a.message != b.message || a.level != b.level || a.levels != b.levels ||
-      a.bit_plane != b.bit_plane || a.bytes_used != b.bytes_used || a.complete != b.complete ||
-      a.channels.size() != b.channels.size())
-    return false;
-  for (std::size_t c = 0; c < a.channels.size(); ++c)
-    if (a.channels[c].components != b.channels[c].components || !same_bits(a.channels[c].values, b.channels[c].values))
-      return false;
-  return same_bits(a.mesh.positions, b.mesh.positions) && same_bits(a.mesh.triangles, b.mesh.triangles);
-}
 
 /// A semi-regular mesh with detail at every level and two channels, in canonical order.
 SemiRegularMesh mesh_with_channels(int levels) {

@@ -7,16 +7,9 @@
 #include <cstdint>
 #include <span>
 
+#include "../decode_results.h"
 #include "fuzz_check.h"
 
-namespace {
-
-bool same(const meshlift::DecodeResult& a, const meshlift::DecodeResult& b) {
-  return a.status == b.status && a.mesh.positions == b.mesh.positions && a.mesh.triangles == b.mesh.triangles &&
-         a.level == b.level && a.bit_plane == b.bit_plane && a.complete == b.complete && a.bytes_used == b.bytes_used;
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace meshlift;
@@ -41,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       ++calls;
       const DecodeResult streamed = decoder.mesh();
       fuzz::check_result(streamed);
-      if (!same(streamed, decode(stream.first(at), fuzz::fuzz_options()))) fuzz::violated("streamed != decoded prefix");
+      if (!meshlift::test::same_result(streamed, decode(stream.first(at), fuzz::fuzz_options()))) fuzz::violated("streamed != decoded prefix");
     }
   }
   return 0;

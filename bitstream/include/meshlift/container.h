@@ -88,6 +88,11 @@ class ContainerReader {
   /// bad_magic is reported as soon as any present magic byte is wrong, even in a short file.
   /// On error, chunks() holds the chunks verified before the offending one.
   Status parse(std::span<const std::uint8_t> file, const ContainerLimits& limits = {});
+  /// parse() of a longer prefix of the file parsed before (its first bytes the same, perhaps at
+  /// another address): the complete chunks found before are kept, and only the bytes from the
+  /// end of the last of them on are read (a streaming decoder's push, O(new bytes)). The same
+  /// result as parse(file). After an error or a cut inside the file header, parses `file` whole.
+  Status parse_more(std::span<const std::uint8_t> file, const ContainerLimits& limits = {});
 
   /// Every entry is complete with its checksum verified, except possibly the last, which is
   /// incomplete if the file was cut inside it. Unknown tags are included as they are.
@@ -103,7 +108,11 @@ class ContainerReader {
 
  private:
   Status fail(Status status, std::size_t offset, std::size_t chunk_index = 0);
+  /// Reads chunks from end_of_complete_ on, appending to chunks_.
+  Status parse_chunks(std::span<const std::uint8_t> file, const ContainerLimits& limits);
 
+  const std::uint8_t* base_ = nullptr;  ///< the file parsed last (chunks' payloads point into it)
+  std::size_t end_of_complete_ = container::kFileHeaderBytes;  ///< offset after the last complete chunk
   std::vector<Chunk> chunks_;
   ContainerError error_;
   std::uint8_t version_ = 0;

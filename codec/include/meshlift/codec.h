@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -113,22 +114,32 @@ DecodeResult decode(std::span<const std::uint8_t> bytes, const DecodeOptions& op
 /// during the decode (out of memory, a corrupt coefficient stream).
 void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& options, DecodeResult& result);
 
-/// Streaming decode: push bytes as they arrive, ask for the best mesh at any moment.
+/// Streaming decode: push bytes as they arrive, ask for the best mesh at any moment. mesh()
+/// returns what decode() of the bytes pushed so far returns (the same status and contents), but
+/// without decoding those bytes again: once the header and base mesh are in, a thread of the
+/// Decoder's own decodes the coefficient stream as it arrives and waits for more, and mesh()
+/// dequantizes what it holds and synthesizes the mesh (a cost of the output's size, not of the
+/// bytes received). Before that, after a malformed container, or where no thread can be started,
+/// mesh() decodes the bytes again. One caller at a time: push() and mesh() are not to be called
+/// concurrently on one Decoder.
 class Decoder {
  public:
-  explicit Decoder(DecodeOptions options = {}) : options_(options) {}
-  void push(std::span<const std::uint8_t> bytes) { received_.insert(received_.end(), bytes.begin(), bytes.end()); }
-  std::size_t bytes_received() const { return received_.size(); }
-  /// The mesh decoded from everything pushed so far (same as decode() of that prefix). For now
-  /// it decodes the whole prefix again on every call: cost grows with the bytes received.
-  DecodeResult mesh() const { return decode(received_, options_); }
+  explicit Decoder(DecodeOptions options = {});
+  ~Decoder();
+  Decoder(Decoder&&) noexcept;
+  Decoder& operator=(Decoder&&) noexcept;
+
+  void push(std::span<const std::uint8_t> bytes);
+  std::size_t bytes_received() const;
+  /// The mesh decoded from everything pushed so far (the same as decode() of that prefix).
+  DecodeResult mesh() const;
   /// The same into `result`, reusing its arrays' storage (decode_into): for a caller asking
   /// again and again.
-  void mesh(DecodeResult& result) const { decode_into(received_, options_, result); }
+  void mesh(DecodeResult& result) const;
 
  private:
-  DecodeOptions options_;
-  std::vector<std::uint8_t> received_;
+  struct State;
+  std::unique_ptr<State> state_;
 };
 
 /// How an extra channel is quantized (FORMAT.md §3): its step and the centre of each component.
