@@ -264,12 +264,13 @@ int run_stream(const StreamArgs& a) {
   std::string csv = "bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n";
   const std::uint64_t base_vertices = inspect(file).base_vertices;  // once, for the base part notes
   Decoder decoder;
+  DecodeResult r;  // kept: each mesh reuses the arrays of the one before (Decoder::mesh(DecodeResult&))
   std::size_t written = 0;
   for (std::size_t at = 0; at < file.size();) {
     const std::size_t n = std::min(a.every, file.size() - at);
     decoder.push(std::span(file).subspan(at, n));
     at += n;
-    const DecodeResult r = decoder.mesh();
+    decoder.mesh(r);
     if (r.status == Status::truncated) {
       std::fprintf(stderr, "%8zu bytes: nothing to show yet (%s)\n", at, r.message.c_str());
       continue;
