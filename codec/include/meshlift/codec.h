@@ -121,7 +121,8 @@ void decode_into(std::span<const std::uint8_t> bytes, const DecodeOptions& optio
 /// dequantizes what it holds and synthesizes the mesh (a cost of the output's size, not of the
 /// bytes received). Before that, after a malformed container, or where no thread can be started,
 /// mesh() decodes the bytes again. One caller at a time: push() and mesh() are not to be called
-/// concurrently on one Decoder.
+/// concurrently on one Decoder. Movable, not copyable; a moved-from Decoder may only be destroyed
+/// or assigned to. Destroying one whose thread waits for bytes ends the thread.
 class Decoder {
  public:
   explicit Decoder(DecodeOptions options = {});
