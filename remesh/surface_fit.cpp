@@ -388,6 +388,10 @@ std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std
   return count;
 }
 
+bool is_degenerate(const std::array<double, 3>& normal, double diagonal) {
+  return 0.5 * std::sqrt(dot(normal, normal)) <= 1e-14 * diagonal * diagonal;
+}
+
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface) {
   const double diagonal = bounding_box_diagonal(remeshed.positions);
   enum : std::uint8_t { kGood, kDegenerate, kFlipped };
@@ -397,7 +401,7 @@ FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surf
     for (std::size_t f = begin; f < end; ++f) {
       const std::uint32_t* t = &remeshed.triangles[3 * f];
       const Vec n = face_normal(remeshed.positions, t);
-      kind[f] = 0.5 * std::sqrt(dot(n, n)) <= 1e-14 * diagonal * diagonal ? kDegenerate
+      kind[f] = is_degenerate(n, diagonal) ? kDegenerate
                 : faces_away(remeshed.positions, t, surface, &hint) ? kFlipped
                                                                     : kGood;
     }

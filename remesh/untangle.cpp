@@ -397,10 +397,12 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     const Vec a = at(x, t[0]), b = at(x, t[1]), c = at(x, t[2]);
     return Vec{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
   };
-  // find_fold_overs()'s test; a face of zero area counts as folded too.
+  // find_fold_overs()'s tests: a degenerate face (its area at most 1e-14 of the squared
+  // diagonal: surface_fit.h) counts as folded too. Counting only faces of zero area, the
+  // untangling left alone a face of three corners on one input crease (mannequin-devil at ~16x).
+  const double diagonal = bounding_box_diagonal(x);
   auto is_folded = [&](std::size_t f, std::uint32_t* hint = nullptr) {
-    const Vec normal = face_normal(x, &triangles[3 * f]);
-    return dot(normal, normal) == 0 || faces_away(x, &triangles[3 * f], surface, hint);
+    return is_degenerate(face_normal(x, &triangles[3 * f]), diagonal) || faces_away(x, &triangles[3 * f], surface, hint);
   };
   // Per face, the input face closest to its centroid where known (kNone: not yet), as of the
   // epoch in centroid_epoch (below): the patches' planes read it for the same faces again and again.
@@ -410,8 +412,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   parallel_blocks(faces, 0, [&](std::size_t begin, std::size_t end) {
     std::uint32_t hint = kNone;  // consecutive faces are neighbours in a semi-regular mesh
     for (std::size_t f = begin; f < end; ++f) {
-      const Vec normal = face_normal(x, &triangles[3 * f]);
-      if (dot(normal, normal) == 0) {
+      if (is_degenerate(face_normal(x, &triangles[3 * f]), diagonal)) {
         folded[f] = 1;  // as is_folded() counts it, without a query
         continue;
       }

@@ -76,6 +76,37 @@ TEST_CASE("Vertex by vertex untangling alone unfolds a vertex pushed across its 
   CHECK(untangle(mesh, sphere, options).folded_after == tangled);
 }
 
+TEST_CASE("Untangling moves the corners of a face of tiny but nonzero area, as find_fold_overs counts it", "[remesh][untangle]") {
+  // A finest vertex moved almost onto the opposite edge of one of its faces: that face keeps its
+  // orientation and an area of ~1e-14, nonzero but below find_fold_overs()'s 1e-14 of the squared
+  // diagonal (mannequin-devil's ~16x remesh had such a face, three corners on one input crease).
+  const SurfaceQuery sphere(test::icosphere(5));
+  SemiRegularMesh mesh = test::sphere_refinement(3);
+  const std::vector<std::uint32_t>& t = mesh.hierarchy.triangles(3);
+  const std::uint32_t a = t[3 * 100], b = t[3 * 100 + 1], c = t[3 * 100 + 2];
+  double toward_a[3], length = 0;
+  for (int k = 0; k < 3; ++k) {
+    toward_a[k] = mesh.positions[3 * a + k] - 0.5 * (mesh.positions[3 * b + k] + mesh.positions[3 * c + k]);
+    length += toward_a[k] * toward_a[k];
+  }
+  length = std::sqrt(length);
+  for (int k = 0; k < 3; ++k)
+    mesh.positions[3 * a + k] = 0.5 * (mesh.positions[3 * b + k] + mesh.positions[3 * c + k]) + 1e-13 * toward_a[k] / length;
+  const FoldOvers before = find_fold_overs(mesh.finest(), sphere);
+  REQUIRE(before.flipped.empty());
+  REQUIRE(before.degenerate.size() == 1);
+  // Not of zero area: the cross product of its edges is not 0.
+  const double* p[3] = {&mesh.positions[3 * a], &mesh.positions[3 * b], &mesh.positions[3 * c]};
+  const double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+  const double w[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+  REQUIRE((u[1] * w[2] - u[2] * w[1] != 0 || u[2] * w[0] - u[0] * w[2] != 0 || u[0] * w[1] - u[1] * w[0] != 0));
+
+  const UntangleReport report = untangle(mesh, sphere);
+  CHECK(report.folded_before == 1);
+  CHECK(report.folded_after == 0);
+  CHECK(folds(mesh, sphere) == 0);
+}
+
 TEST_CASE("A patch that cannot be untangled is not tried again while nothing around it moves", "[remesh][untangle]") {
   // A pleat that untangles, and on the far side of the sphere a cap of input faces turned
   // inside out under remesh vertices that all stay (`fixed`): the remesh faces there face away

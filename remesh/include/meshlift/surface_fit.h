@@ -66,6 +66,11 @@ std::vector<std::array<double, 3>> edge_frame_normals(const TriangleTopology& co
 /// Faces of `remeshed` facing away from `surface`: a face is flipped when its normal makes more
 /// than 90° with the normal of the surface face closest to its centroid; degenerate when its
 /// area is below 1e-14 of the squared bounding-box diagonal.
+/// find_fold_overs()'s degenerate test for a face whose edge vectors' cross product is `normal`
+/// (its length twice the face's area), in a mesh of bounding-box diagonal `diagonal`. The
+/// untangling (untangle.h) counts such faces as folded, so that it moves their vertices too.
+bool is_degenerate(const std::array<double, 3>& normal, double diagonal);
+
 struct FoldOvers {
   std::vector<std::uint32_t> flipped;     ///< face indices
   std::vector<std::uint32_t> degenerate;  ///< face indices
