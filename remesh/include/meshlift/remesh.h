@@ -130,8 +130,9 @@ struct RemeshOptions {
   /// diagonal) from the remesh, and the input vertices nearest the remesh faces farther than
   /// that from the input, at most 8 a round and 5 % of the diagonal apart, are kept in the base
   /// (DecimateOptions::keep) and the remesh made again, kept if it is closer to the input and
-  /// folds no more away from the input's own crossings (at L = 4 elephant 59.7 -> 77.0 dB,
-  /// turbine 53.7 -> 80.9 dB with 1 fold instead of 17; docs/RESULTS.md). 0 turns it off.
+  /// folds no more away from the input's own crossings than the one kept; a round whose remesh
+  /// is not kept still passes its vertices on to the next (at L = 4 elephant 59.7 -> 77.0 dB,
+  /// turbine 53.7 -> 84.0 dB with 1 fold instead of 9; docs/RESULTS.md). 0 turns it off.
   int missing_part_rounds = 3;
   double missing_part_distance = 2e-3;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
