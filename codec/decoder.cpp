@@ -519,16 +519,19 @@ struct Decoder::State final : ByteSource {
         return;
       }
       if (in_bit_planes) {
-        std::vector<double> values;
-        if (storage != nullptr) values = std::move(storage->positions);
-        dequantize(prepared, decoded, values);
-        const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix_bytes,
-                                container_truncated};
-        lock.unlock();
+        // As decode_with's: no exception leaves a decode, a numbered status instead.
         try {
+          std::vector<double> values;
+          if (storage != nullptr) values = std::move(storage->positions);
+          dequantize(prepared, decoded, values);
+          const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix_bytes,
+                                  container_truncated};
+          lock.unlock();
           result = synthesize(prepared, false, std::move(values), progress, options, storage);
         } catch (const std::bad_alloc&) {
           result = failure(Status::limit_exceeded, "not enough memory to decode this stream");
+        } catch (const MeshError& e) {
+          result = failure(Status::corrupt, e.what());
         }
         return;
       }
