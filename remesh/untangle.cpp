@@ -726,13 +726,13 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         // Where the linear program finds no fewer folds (it maximizes the smallest area along
         // one normal, which is not the fold test's own measure: each face against the input face
         // closest to its centroid), a direct search on that measure: the points of a grid over
-        // the tangent plane within half the ring's reach, nearest first, taken to the input, and
-        // the first with fewer folded faces around the vertex kept. A point that lands on another
-        // sheet (the input's normal there more than 90° from n) or farther than half the reach
-        // is skipped: without those guards turbine at ~16x fell from 85.8 to 81.7 dB. Only while
-        // few vertices are left to try (up to 288 points, ~7 queries each, a vertex). Measured at
-        // ~16x: turbine 5 folded faces -> 1, cow 3 -> 0, mannequin-devil 6 -> 2 (docs/RESULTS.md,
-        // "Direct search").
+        // the tangent plane within half the ring's reach, nearest first, each taken to the input
+        // and then as it is, and the first with fewer folded faces around the vertex kept. An
+        // input point on another sheet (the input's normal there more than 90° from n) or farther
+        // than half the reach is skipped: without those guards turbine at ~16x fell from 85.8 to
+        // 81.7 dB. Only while few vertices are left to try (up to 288 points, ~7 queries each,
+        // twice, a vertex). Measured at ~16x: turbine 5 folded faces -> 0, cow 3 -> 0,
+        // mannequin-devil 6 and a degenerate one -> 0 (docs/RESULTS.md, "Direct search").
         if (best_folds > 0 && best == xv && candidates.size() <= kDirectSearchVertices) {
           const Vec e1 = unit(std::abs(n[0]) < 0.6 ? cross(n, Vec{1, 0, 0}) : cross(n, Vec{0, 1, 0}));
           const Vec e2 = cross(n, e1);
@@ -747,13 +747,17 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
             // On the input, on the vertex's own sheet (its normal there within 90° of the one
             // at the vertex), and within half the reach: no jump to another part of the input.
             const SurfacePoint on = surface.closest(planar, here);
-            const Vec q = on.point, step = sub(q, xv);
-            if (dot(input_normal(on.face), n) <= 0 || dot(step, step) > 0.25 * reach * reach) continue;
-            for (int c = 0; c < 3; ++c) x[3 * v + c] = q[c];
-            if (const std::size_t folds = ring_folds(); folds < best_folds) {
-              best = q, best_folds = folds, best_area = ring_min_area();
-              break;
+            const Vec step = sub(on.point, xv);
+            bool found = false;
+            for (const Vec& q : {on.point, planar}) {
+              if (&q == &on.point && (dot(input_normal(on.face), n) <= 0 || dot(step, step) > 0.25 * reach * reach)) continue;
+              for (int c = 0; c < 3; ++c) x[3 * v + c] = q[c];
+              if (const std::size_t folds = ring_folds(); folds < best_folds) {
+                best = q, best_folds = folds, best_area = ring_min_area(), found = true;
+                break;
+              }
             }
+            if (found) break;
           }
         }
         for (int c = 0; c < 3; ++c) x[3 * v + c] = best[c];
