@@ -744,18 +744,18 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           for (const auto& [i, j] : direct_search_grid()) {
             const double s = 0.5 * reach * i / kDirectSearchSteps, t = 0.5 * reach * j / kDirectSearchSteps;
             const Vec planar{xv[0] + s * e1[0] + t * e2[0], xv[1] + s * e1[1] + t * e2[1], xv[2] + s * e1[2] + t * e2[2]};
-            // On the input, on the vertex's own sheet (its normal there within 90° of the one
-            // at the vertex), and within half the reach: no jump to another part of the input.
+            // The input point only where it is on the vertex's own sheet (the input's normal
+            // there within 90° of the one at the vertex) and within half the reach: no jump to
+            // another part of the input.
             const SurfacePoint on = surface.closest(planar, here);
             const Vec step = sub(on.point, xv);
+            const bool on_sheet = dot(input_normal(on.face), n) > 0 && dot(step, step) <= 0.25 * reach * reach;
             bool found = false;
-            for (const Vec& q : {on.point, planar}) {
-              if (&q == &on.point && (dot(input_normal(on.face), n) <= 0 || dot(step, step) > 0.25 * reach * reach)) continue;
+            for (int which = on_sheet ? 0 : 1; which < 2 && !found; ++which) {
+              const Vec& q = which == 0 ? on.point : planar;
               for (int c = 0; c < 3; ++c) x[3 * v + c] = q[c];
-              if (const std::size_t folds = ring_folds(); folds < best_folds) {
+              if (const std::size_t folds = ring_folds(); folds < best_folds)
                 best = q, best_folds = folds, best_area = ring_min_area(), found = true;
-                break;
-              }
             }
             if (found) break;
           }
