@@ -120,6 +120,20 @@ class RangeEncoder {
   std::vector<std::uint8_t> out_;
 };
 
+/// Bytes that go on arriving while a RangeDecoder reads them (a streaming decode on a thread of
+/// its own, codec/decoder.cpp): the decoder asks for more when it reaches the end of what it holds,
+/// so that it stops exactly where a decoder of the bytes so far would stop, and goes on from there.
+class ByteSource {
+ public:
+  /// Waits until more than `have` bytes have arrived, or until no more will come. Returns every
+  /// byte so far (the first `have` as before; the span may have moved), or a span of `have` bytes
+  /// or fewer when no more will come.
+  virtual std::span<const std::uint8_t> more(std::size_t have) = 0;
+
+ protected:
+  ~ByteSource() = default;
+};
+
 /// Reads a range-coded stream. Safe on any input: never reads outside `bytes`, never throws,
 /// never allocates.
 ///
@@ -137,27 +151,14 @@ class RangeEncoder {
 /// initial code makes status() == corrupt, also exhausted from the start. Other corruption
 /// cannot be detected here: the symbols are then merely wrong, which is what chunk checksums
 /// are for.
-/// Bytes that go on arriving while a RangeDecoder reads them (a streaming decode on a thread of
-/// its own, codec/decoder.cpp): the decoder asks for more when it reaches the end of what it holds,
-/// so that it stops exactly where a decoder of the bytes so far would stop, and goes on from there.
-class ByteSource {
- public:
-  /// Waits until more than `have` bytes have arrived, or until no more will come. Returns every
-  /// byte so far (the first `have` as before; the span may have moved), or a span of `have` bytes
-  /// or fewer when no more will come.
-  virtual std::span<const std::uint8_t> more(std::size_t have) = 0;
-
- protected:
-  ~ByteSource() = default;
-};
-
 class RangeDecoder {
  public:
   RangeDecoder() = default;  ///< an empty stream: exhausted, status() == truncated
   explicit RangeDecoder(std::span<const std::uint8_t> bytes);
   /// Reads from `source`, waiting in it whenever a decision needs a byte that has not arrived
   /// (first for the 5 initial bytes). The symbols are those of the span decoder over the bytes that
-  /// arrive; it is exhausted only once `source` says no more will come. `source` must outlive it.
+  /// arrive; it is exhausted only once `source` says no more will come. `source` must outlive it,
+  /// and what its more() throws passes through the decoder's calls.
   explicit RangeDecoder(ByteSource& source);
 
   int decode(BitModel& model) {
