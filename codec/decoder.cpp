@@ -1,6 +1,9 @@
 // .mlz stream -> mesh, for whole files and for any prefix (bitstream/FORMAT.md §3-5). Mirrors
 // encoder.cpp. Untrusted bytes: every count is checked against the caller's limits and the bytes
 // present before anything is allocated; failures are numbered statuses, never exceptions.
+// A decode is prepare() (header, base mesh, hierarchy), the base part and the bit planes, then
+// dequantize() and synthesize(): decode() runs them in turn; the streaming Decoder (at the end)
+// runs the middle on a thread of its own as bytes arrive, and the last two at each mesh().
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
