@@ -42,17 +42,17 @@ struct ParsedStream {
   ContainerReader container;
   StreamHeader header;
   const Chunk* base = nullptr;
-  std::vector<std::uint8_t> coefficients;  ///< the COEF payloads, concatenated
+  std::vector<std::span<const std::uint8_t>> coefficient_payloads;  ///< of the COEF chunks, in order
+  std::vector<std::uint8_t> coefficients;  ///< those concatenated (parse() only)
 };
 
 /// Reads the header and finds the chunks in out.container, whose parse of `bytes` returned
-/// `container_status`; on success fills `out` (the COEF payloads concatenated, if `gather`), else
-/// returns the failure.
+/// `container_status`; on success fills `out` but for `coefficients`, else returns the failure.
 DecodeResult read_chunks(Status container_status, std::span<const std::uint8_t> bytes, const DecodeLimits& limits,
-                         ParsedStream& out, bool gather) {
+                         ParsedStream& out) {
   out.header = StreamHeader();
   out.base = nullptr;
-  out.coefficients.clear();
+  out.coefficient_payloads.clear();
   if (container_status != Status::ok) {
     const ContainerError& e = out.container.error();
     const std::uint8_t version = out.container.version();
@@ -84,7 +84,7 @@ DecodeResult read_chunks(Status container_status, std::span<const std::uint8_t> 
     if (c.tag == kTagBaseMesh && i == 1) {
       out.base = &c;
     } else if (c.tag == kTagCoefficients && i >= 2) {
-      if (gather) out.coefficients.insert(out.coefficients.end(), c.payload.begin(), c.payload.end());
+      out.coefficient_payloads.push_back(c.payload);
     } else if (c.tag == 0 && !c.complete) {
       // cut inside a chunk's tag: nothing of it is usable
     } else if (c.tag == kTagHeader || c.tag == kTagBaseMesh || c.tag == kTagCoefficients) {
@@ -102,7 +102,10 @@ DecodeResult read_chunks(Status container_status, std::span<const std::uint8_t> 
 
 /// Parses container and header; on success fills `out`, else returns the failure.
 DecodeResult parse(std::span<const std::uint8_t> bytes, const DecodeLimits& limits, ParsedStream& out) {
-  return read_chunks(out.container.parse(bytes), bytes, limits, out, true);
+  DecodeResult r = read_chunks(out.container.parse(bytes), bytes, limits, out);
+  for (const std::span<const std::uint8_t> payload : out.coefficient_payloads)
+    out.coefficients.insert(out.coefficients.end(), payload.begin(), payload.end());
+  return r;
 }
 
 
@@ -211,6 +214,25 @@ void dequantize(const Prepared& p, const zerotree::Decoded& decoded, std::vector
   });
 }
 
+/// The base part, then the bit planes (FORMAT.md §5), from `decoder` into `out`
+/// (zerotree::decode_into: current at every decision). A stream cut inside the base part leaves
+/// the later base vertices at their predictions, and the bit planes then stop at their first
+/// decision. `between(n)` is called once the base part is done, with the base vertices decoded
+/// whole. Returns false for a corrupt base part (nothing decoded into `out`).
+template <class Between>
+bool decode_coefficients(const Prepared& p, const zerotree::Forest& forest, RangeDecoder& decoder,
+                         zerotree::Decoded& out, Between&& between) {
+  const StreamHeader& header = p.header;
+  std::vector<std::int64_t> base_high;
+  bool corrupt = false;
+  const std::uint32_t base = base_values::decode(p.hierarchy->topology(0), p.components(), header.base_plane,
+                                                 header.top_plane, decoder, base_high, corrupt);
+  if (corrupt) return false;
+  between(base);
+  zerotree::decode_into(forest, p.components(), header.top_plane, header.base_plane, base_high, decoder, out);
+  return true;
+}
+
 /// How far the coefficient stream got, for the result.
 struct Progress {
   int last_plane = -1;
@@ -301,20 +323,15 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
   if (DecodeResult r = parse(prefix, options.limits, stream); r.status != Status::ok) return r;
   Prepared p;
   if (DecodeResult r = prepare(stream, options.limits, p); r.status != Status::ok) return r;
-  const StreamHeader& header = p.header;
   try {
-    // The base part, then the bit planes (FORMAT.md §5). A stream cut inside the base part
-    // leaves the later base vertices at their predictions, and the bit planes then stop at their
-    // first decision.
     RangeDecoder decoder(stream.coefficients);
-    std::vector<std::int64_t> base_high;
-    bool base_corrupt = false;
-    const std::uint32_t base_decoded = base_values::decode(p.hierarchy->topology(0), p.components(), header.base_plane,
-                                                           header.top_plane, decoder, base_high, base_corrupt);
-    if (base_corrupt) return corrupt_base_part();
-    zerotree::Decoded decoded = zerotree::decode(zerotree::Forest(*p.hierarchy), p.components(), header.top_plane,
-                                                 header.base_plane, base_high, decoder);
-    base_high = std::vector<std::int64_t>();  // freed (the LSP holds what it gave)
+    zerotree::Decoded decoded;
+    std::uint32_t base_decoded = 0;
+    {
+      const zerotree::Forest forest(*p.hierarchy);  // freed before the values are made
+      if (!decode_coefficients(p, forest, decoder, decoded, [&](std::uint32_t n) { base_decoded = n; }))
+        return corrupt_base_part();
+    }
     std::vector<double> values;
     if (storage != nullptr) values = std::move(storage->positions);
     dequantize(p, decoded, values);
@@ -384,11 +401,8 @@ struct Decoder::State final : ByteSource {
   };
   Mode mode = Mode::before_worker;
   ParsedStream stream;  ///< the prefix so far (its container parsed a push at a time)
-  std::size_t next_chunk = 2, next_byte = 0;  ///< the first COEF byte not yet handed on
   Prepared prepared;
   std::optional<zerotree::Forest> forest;
-  std::size_t prefix_bytes = 0;
-  bool container_truncated = false;
 
   // Shared with the worker, under `mutex`; `changed` is notified on every change of it.
   std::mutex mutex;
@@ -431,24 +445,16 @@ struct Decoder::State final : ByteSource {
     changed.notify_all();
   }
 
-  // The worker: what decode_with does between prepare() and dequantize(), on bytes that arrive.
+  // The worker: decode_coefficients() as decode_with runs it, on bytes that arrive.
   void run() {
     try {
-      const StreamHeader& header = prepared.header;
       RangeDecoder decoder(*this);
-      std::vector<std::int64_t> base_high;
-      bool base_corrupt = false;
-      const std::uint32_t base = base_values::decode(prepared.hierarchy->topology(0), prepared.components(),
-                                                     header.base_plane, header.top_plane, decoder, base_high, base_corrupt);
-      if (base_corrupt) return finish(corrupt_base_part());
-      {
+      const bool ok = decode_coefficients(prepared, *forest, decoder, decoded, [&](std::uint32_t n) {
         const std::lock_guard lock(mutex);
-        base_decoded = base;
+        base_decoded = n;
         in_bit_planes = true;
-      }
-      zerotree::decode_into(*forest, prepared.components(), header.top_plane, header.base_plane, base_high, decoder,
-                            decoded);
-      finish({});
+      });
+      finish(ok ? DecodeResult{} : corrupt_base_part());
     } catch (const std::bad_alloc&) {
       finish(failure(Status::limit_exceeded, "not enough memory to decode this stream"));
     } catch (const std::exception& e) {
@@ -462,7 +468,7 @@ struct Decoder::State final : ByteSource {
   void update() {
     if (mode == Mode::again) return;
     const std::span<const std::uint8_t> bytes = prefix();
-    if (read_chunks(stream.container.parse_more(bytes, {}), bytes, options.limits, stream, false).status != Status::ok) {
+    if (read_chunks(stream.container.parse_more(bytes, {}), bytes, options.limits, stream).status != Status::ok) {
       // Before the base mesh is in, a later push may complete it; after, the stream is broken
       // for good (a checksum, a chunk out of place): every mesh() reports it, from decode().
       if (mode == Mode::worker) stop_worker();
@@ -482,22 +488,15 @@ struct Decoder::State final : ByteSource {
       }
       mode = Mode::worker;
     }
-    prefix_bytes = bytes.size();
-    container_truncated = stream.container.truncated();
     {
-      // The COEF payloads' new bytes, from the chunk and offset the last push reached.
+      // The COEF payloads' bytes past those handed on already (they only grow at their end as
+      // bytes come: container.h).
       const std::lock_guard lock(mutex);
-      const std::vector<Chunk>& chunks = stream.container.chunks();
-      for (; next_chunk < chunks.size(); ++next_chunk) {
-        const Chunk& c = chunks[next_chunk];
-        const bool coefficients = c.tag == kTagCoefficients;
-        if (coefficients)
-          arrived.insert(arrived.end(), c.payload.begin() + static_cast<std::ptrdiff_t>(next_byte), c.payload.end());
-        if (!c.complete) {  // cut inside it: go on from here next time
-          next_byte = coefficients ? c.payload.size() : 0;
-          break;
-        }
-        next_byte = 0;
+      std::size_t handed = arrived.size();
+      for (const std::span<const std::uint8_t> payload : stream.coefficient_payloads) {
+        const std::size_t from = std::min(handed, payload.size());
+        arrived.insert(arrived.end(), payload.begin() + static_cast<std::ptrdiff_t>(from), payload.end());
+        handed -= from;
       }
     }
     changed.notify_all();
@@ -527,8 +526,8 @@ struct Decoder::State final : ByteSource {
           std::vector<double> values;
           if (storage != nullptr) values = std::move(storage->positions);
           dequantize(prepared, decoded, values);
-          const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix_bytes,
-                                  container_truncated};
+          const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix().size(),
+                                  stream.container.truncated()};
           lock.unlock();
           result = synthesize(prepared, false, std::move(values), progress, options, storage);
         } catch (const std::bad_alloc&) {
