@@ -693,23 +693,28 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         Vec best = xv;
         std::size_t best_folds = ring_folds();
         double best_area = ring_min_area();
+        // How far the ring reaches from the vertex: the linear program's box, and the direct
+        // search's grid below.
+        double reach = 0;
+        for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j)
+          for (int k = 0; k < 3; ++k) {
+            const Vec d = sub(at(x, triangles[3 * std::size_t{incident[j]} + k]), xv);
+            reach = std::max(reach, std::sqrt(dot(d, d)));
+          }
         const Vec planes[] = {n, mean_normal, face_normal_mean};
         for (int which = 0; which < 3; ++which) {
           const Vec& plane = planes[which];
           if (which > 0 && !(dot(plane, plane) > 0 && dot(plane, n) < 0.99)) continue;
-          const Vec e1 = unit(std::abs(plane[0]) < 0.6 ? cross(plane, Vec{1, 0, 0}) : cross(plane, Vec{0, 1, 0}));
-          const Vec e2 = cross(plane, e1);
+          const auto [e1, e2] = vec3::tangent_basis(plane);
           std::vector<Linear2> ring;
-          double box = 0;
           for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
             const std::uint32_t* t = &triangles[3 * std::size_t{incident[j]}];
             const int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
             const Vec B = sub(at(x, t[(corner + 1) % 3]), xv), C = sub(at(x, t[(corner + 2) % 3]), xv);
             const Vec m = cross(plane, sub(C, B));
             ring.push_back({{0.5 * dot(e1, m), 0.5 * dot(e2, m)}, 0.5 * dot(plane, cross(B, C))});
-            box = std::max({box, std::sqrt(dot(B, B)), std::sqrt(dot(C, C))});
           }
-          const auto [d, best_min] = max_min_offset(ring, box);
+          const auto [d, best_min] = max_min_offset(ring, reach);
           const double zero[2] = {0, 0};
           double now_min = ring[0].at(zero);
           for (const Linear2& f : ring) now_min = std::min(now_min, f.at(zero));
@@ -734,13 +739,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         // twice, a vertex). Measured at ~16x: turbine 5 folded faces -> 0, cow 3 -> 0,
         // mannequin-devil 6 and a degenerate one -> 0 (docs/RESULTS.md, "Direct search").
         if (best_folds > 0 && best == xv && candidates.size() <= kDirectSearchVertices) {
-          const Vec e1 = unit(std::abs(n[0]) < 0.6 ? cross(n, Vec{1, 0, 0}) : cross(n, Vec{0, 1, 0}));
-          const Vec e2 = cross(n, e1);
-          double reach = 0;
-          for (std::uint32_t k = adjacency.neighbour_offsets[v]; k < adjacency.neighbour_offsets[v + 1]; ++k) {
-            const Vec d = sub(at(x, adjacency.neighbours[k]), xv);
-            reach = std::max(reach, std::sqrt(dot(d, d)));
-          }
+          const auto [e1, e2] = vec3::tangent_basis(n);
           for (const auto& [i, j] : direct_search_grid()) {
             const double s = 0.5 * reach * i / kDirectSearchSteps, t = 0.5 * reach * j / kDirectSearchSteps;
             const Vec planar{xv[0] + s * e1[0] + t * e2[0], xv[1] + s * e1[1] + t * e2[1], xv[2] + s * e1[2] + t * e2[2]};

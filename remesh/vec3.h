@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <utility>
 
 namespace meshlift::vec3 {
 
@@ -50,6 +51,13 @@ inline Vec3 unit(Vec3 v) {
   if (length > 0)
     for (double& c : v) c /= length;
   return v;
+}
+
+/// Two unit tangents (e1, e2) of the plane with unit normal n, (e1, e2, n) right-handed: e1
+/// across n from the x axis, or from the y axis where n is near x.
+inline std::pair<Vec3, Vec3> tangent_basis(const Vec3& n) {
+  const Vec3 e1 = unit(std::abs(n[0]) < 0.6 ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
+  return {e1, cross(n, e1)};
 }
 
 }  // namespace meshlift::vec3
