@@ -300,10 +300,9 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
       std::uint32_t* const lsp_magnitude = l.lsp.magnitude.get();
       std::size_t lip_size = l.lip_size, lis_size = l.lis_size, lsp_size = l.lsp.size;
       const std::uint32_t bit_n = std::uint32_t{1} << n;
-      auto stop = [&] {
-        l.lsp.size = lsp_size;
-        return false;
-      };
+      // Where the decoder's input runs out (a decision of -1) the run returns false as it is:
+      // its LSP's size and refinement position are stored at every decision (below), so `lists`
+      // hold what was decoded, as they do while a decoder waits for bytes (decode_into).
       std::uint8_t* const component_state = state_storage.get() + state_bytes * static_cast<std::size_t>(c);
       auto state_of = [component_state](std::uint32_t v) -> std::uint8_t {
         return (component_state[v >> 2] >> (2 * (v & 3))) & 3;
@@ -321,7 +320,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
         lsp_tag[lsp_size] = static_cast<std::uint8_t>(level | (negative ? kNegativeTag : 0));
         lsp_magnitude[lsp_size] = kEncoder ? magnitude : bit_n;
         ++lsp_size;
-        if constexpr (!kEncoder) l.lsp.size = lsp_size;  // Decoded is read while the decoder waits (decode_into)
+        if constexpr (!kEncoder) l.lsp.size = lsp_size;
         return true;
       };
 
@@ -334,9 +333,9 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
         const std::uint8_t tag = lip_tag[i];
         const std::uint32_t magnitude = kEncoder ? lip_magnitude[i] : 0;
         const int s = io.bit(models.lip(tag & kTagLevelMask, c), kEncoder && (magnitude >> n) != 0);
-        if (s < 0) return stop();
+        if (s < 0) return false;
         if (s) {
-          if (!newly_significant(v, tag, magnitude)) return stop();
+          if (!newly_significant(v, tag, magnitude)) return false;
         } else {
           lip_vertex[keep] = v;
           lip_tag[keep] = tag;
@@ -380,7 +379,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
                           ? 1
                           : io.bit(type_b ? models.set_grandchildren(level, c, own_state != 0) : models.set_descendants(level, c, own_state != 0),
                                    kEncoder && lis_width[i] > n);
-        if (s < 0) return stop();
+        if (s < 0) return false;
         if (!s) {
           lis_vertex[keep] = v;
           lis_tag[keep] = tag;
@@ -404,9 +403,9 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
                                ? 1
                                : io.bit(models.child(level + 1, c, std::min(found, 3), static_cast<int>(std::min<std::uint32_t>(k, 3))),
                                         kEncoder && (magnitude >> n) != 0);
-            if (cs < 0) return stop();
+            if (cs < 0) return false;
             if (cs) {
-              if (!newly_significant(child, child_tag, magnitude)) return stop();
+              if (!newly_significant(child, child_tag, magnitude)) return false;
               ++found;
             } else {
               lip_vertex[lip_size] = child;
@@ -441,12 +440,9 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
       const std::size_t refine_count = l.lsp.refine_count;
       for (std::size_t i = above_base ? l.lsp.preset : 0; i < refine_count; ++i) {
         const std::uint32_t magnitude = lsp_magnitude[i];
-        if constexpr (!kEncoder) l.lsp.refined = i;  // as stop() leaves it, for a reader while the decoder waits
+        if constexpr (!kEncoder) l.lsp.refined = i;
         const int b = io.bit(models.refine(lsp_tag[i] & kLevelMask, c), kEncoder && (magnitude & bit_n) != 0);
-        if (b < 0) {
-          l.lsp.refined = i;
-          return stop();
-        }
+        if (b < 0) return false;
         lsp_magnitude[i] = magnitude | (static_cast<std::uint32_t>(b) << n);
       }
       l.lsp.refined = refine_count;
