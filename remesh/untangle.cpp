@@ -1,5 +1,5 @@
 // Untangling folded patches of a remesh by Tutte re-embedding on the input's tangent plane or
-// on its own flattening. See untangle.h.
+// on its own flattening, else by relaxation on the input; then vertex by vertex. See untangle.h.
 #include "meshlift/untangle.h"
 
 #include <Eigen/SparseCholesky>
@@ -392,9 +392,10 @@ const std::vector<std::pair<int, int>>& direct_search_grid() {
 
 UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options) {
   if (options.first_rings < 1 || options.max_rings < options.first_rings || options.passes < 0 || options.vertex_passes < 0 ||
-      options.rounds < 1)
+      options.rounds < 1 || options.relaxation_steps < 0)
     throw std::invalid_argument(
-        "untangle: first_rings >= 1, max_rings >= first_rings, passes >= 0, vertex_passes >= 0, rounds >= 1");
+        "untangle: first_rings >= 1, max_rings >= first_rings, passes >= 0, vertex_passes >= 0, rounds >= 1, "
+        "relaxation_steps >= 0");
   UntangleReport report;
   const SemiRegularHierarchy& h = mesh.hierarchy;
   const std::vector<std::uint32_t>& triangles = h.triangles(h.levels());
@@ -568,15 +569,40 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           std::vector<double> saved(3 * inner.size());
           for (std::uint32_t i = 0; i < inner.size(); ++i)
             for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
-          for (int lift = 0; lift < 3 && !kept; ++lift) {
-            if (lift == 2) {  // third try: inside the input's own flattening (lift_through_chart)
+          std::vector<double> relaxed;  // the relaxation's positions (lifts 3 and on), in `inner`'s order
+          for (int lift = 0; lift < 3 + options.relaxation_steps && !kept; ++lift) {
+            if (lift >= 3) {
+              // Last tries (UntangleOptions::relaxation_steps): relaxation on the input, from
+              // where the patch was, one step more a try: each inner vertex to the input's
+              // closest point to the mean of its neighbours (Jacobi; the rim stays). A patch
+              // across a corner of the input (cow's, at L = 4) has no plane, and no chart holds
+              // it, but its own shape can smooth out (docs/RESULTS.md, "Relaxation").
+              if (relaxed.empty()) relaxed = saved;
+              std::vector<double> next(relaxed.size());
+              for (std::uint32_t i = 0; i < inner.size(); ++i) {
+                const std::uint32_t v = inner[i];
+                Vec mean{0, 0, 0};
+                const std::uint32_t first = adjacency.neighbour_offsets[v], end = adjacency.neighbour_offsets[v + 1];
+                for (std::uint32_t k = first; k < end; ++k) {
+                  const std::uint32_t w = adjacency.neighbours[k];
+                  for (int c = 0; c < 3; ++c)
+                    mean[c] += (local[w] != kNone ? relaxed[3 * local[w] + c] : x[3 * w + c]) / (end - first);
+                }
+                const SurfacePoint on = surface.closest(mean, hint);
+                hint = on.face;
+                for (int c = 0; c < 3; ++c) next[3 * i + c] = on.point[c];
+              }
+              relaxed = std::move(next);
+              for (std::uint32_t i = 0; i < inner.size(); ++i)
+                for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = relaxed[3 * i + c];
+            } else if (lift == 2) {  // third try: inside the input's own flattening (lift_through_chart)
               if (!input_adjacency) {
                 input_adjacency.emplace(static_cast<std::uint32_t>(input.vertex_count()), input.triangles);
                 chart.emplace(input, *input_adjacency);
               }
               const std::optional<std::vector<double>> placed =
                   lift_through_chart(*chart, surface, adjacency, x, vertices, inner, local, origin, *solver, hint);
-              if (!placed) break;
+              if (!placed) continue;
               for (std::uint32_t i = 0; i < inner.size(); ++i)
                 for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = (*placed)[3 * i + c];
             } else {

@@ -33,6 +33,11 @@ struct UntangleOptions {
   int max_rings = 8;
   /// Passes over all patches (>= 0); they stop early when a pass keeps no patch.
   int passes = 8;
+  /// A patch's last tries, after its Tutte maps lifted onto the plane and into the input's own
+  /// flattening (>= 0): steps of relaxation on the input, one more a try, from where the patch
+  /// was (each inner vertex to the input's closest point to the mean of its neighbours). Measured
+  /// at L = 4: cow's folded face at a corner of its input and turbine's two go (docs/RESULTS.md).
+  int relaxation_steps = 4;
   /// Passes of per-vertex untangling over the vertices of the faces still folded (>= 0); they
   /// stop early when a pass moves no vertex.
   int vertex_passes = 16;
