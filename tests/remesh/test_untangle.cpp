@@ -187,4 +187,7 @@ TEST_CASE("Untangling rejects options out of range", "[remesh][untangle]") {
   options = {};
   options.rounds = 0;
   CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
+  options = {};
+  options.relaxation_steps = -1;
+  CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
 }

@@ -35,8 +35,11 @@ struct UntangleOptions {
   int passes = 8;
   /// A patch's last tries, after its Tutte maps lifted onto the plane and into the input's own
   /// flattening (>= 0): steps of relaxation on the input, one more a try, from where the patch
-  /// was (each inner vertex to the input's closest point to the mean of its neighbours). Measured
-  /// at L = 4: cow's folded face at a corner of its input and turbine's two go (docs/RESULTS.md).
+  /// was (each inner vertex to the input's closest point to the mean of its neighbours), kept
+  /// as the other tries are, where the region folds fewer faces. Measured at L = 4: cow's folded
+  /// face at a corner of its input and turbine's two go. That acceptance is greedy: on a badly
+  /// tangled mesh (half its faces folded) the untangling then often ends with more folded than
+  /// without relaxation (docs/RESULTS.md, "Relaxation"); 0 turns it off.
   int relaxation_steps = 4;
   /// Passes of per-vertex untangling over the vertices of the faces still folded (>= 0); they
   /// stop early when a pass moves no vertex.
