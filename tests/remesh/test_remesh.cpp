@@ -129,9 +129,9 @@ TEST_CASE("Development meshes that still fold fold only where the input passes t
   // fold test itself where their linear program finds nothing (before that 2 and 7, and 8 for
   // mannequin-devil while degenerate faces counted as folded without that search:
   // docs/RESULTS.md, "Direct search"); since its patches also try relaxation on the input,
-  // mannequin-devil folds 4 for 3 (76.33 dB for 76.30: "Relaxation"). Before the untangling's patches tried the input's own
-  // flattening (InputChart, untangle.cpp), cow folded 8 faces and mannequin-devil 15, one of them
-  // away from its crossings. Cow's 4x base stops above its size (193 vertices for 182), so the
+  // mannequin-devil folds 4 for 3 (76.33 dB for 76.30: "Relaxation"). Before the untangling's
+  // patches tried the input's own flattening (InputChart, untangle.cpp), cow folded 8 faces and
+  // mannequin-devil 15, one of them away from its crossings. Cow's 4x base stops above its size (193 vertices for 182), so the
   // missing-parts step keeps 8 input vertices in it: 67.1 dB (66.1 without).
   const std::tuple<const char*, std::size_t, std::size_t, double> meshes[] = {{"cow", 89, 0, 66.5},
                                                                               {"mannequin-devil", 1643, 4, 75.8}};
