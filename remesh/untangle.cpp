@@ -569,16 +569,19 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           std::vector<double> saved(3 * inner.size());
           for (std::uint32_t i = 0; i < inner.size(); ++i)
             for (int c = 0; c < 3; ++c) saved[3 * i + c] = x[3 * inner[i] + c];
-          std::vector<double> relaxed;  // the relaxation's positions (lifts 3 and on), in `inner`'s order
+          // The relaxation's positions (lifts 3 and on) and its next step's, in `inner`'s order.
+          std::vector<double> relaxed, next;
           for (int lift = 0; lift < 3 + options.relaxation_steps && !kept; ++lift) {
             if (lift >= 3) {
               // Last tries (UntangleOptions::relaxation_steps): relaxation on the input, from
               // where the patch was, one step more a try: each inner vertex to the input's
-              // closest point to the mean of its neighbours (Jacobi; the rim stays). A patch
+              // closest point to the mean of its neighbours (Jacobi; the rim stays): Laplacian
+              // (umbrella) smoothing, then the closest point, as surface_fit.cpp's untangling
+              // rounds and the fitting of MPEG V-DMC's test model do (CODEC-NOTES §8). A patch
               // across a corner of the input (cow's, at L = 4) has no plane, and no chart holds
               // it, but its own shape can smooth out (docs/RESULTS.md, "Relaxation").
               if (relaxed.empty()) relaxed = saved;
-              std::vector<double> next(relaxed.size());
+              next.resize(relaxed.size());
               for (std::uint32_t i = 0; i < inner.size(); ++i) {
                 const std::uint32_t v = inner[i];
                 Vec mean{0, 0, 0};
@@ -592,7 +595,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
                 hint = on.face;
                 for (int c = 0; c < 3; ++c) next[3 * i + c] = on.point[c];
               }
-              relaxed = std::move(next);
+              relaxed.swap(next);
               for (std::uint32_t i = 0; i < inner.size(); ++i)
                 for (int c = 0; c < 3; ++c) x[3 * inner[i] + c] = relaxed[3 * i + c];
             } else if (lift == 2) {  // third try: inside the input's own flattening (lift_through_chart)
