@@ -27,10 +27,12 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "meshlift/closest_point.h"
 #include "meshlift/decimate.h"
@@ -664,12 +666,23 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // bear_bis 84.6 dB at 2x, 83.1 at 1.5x, 80.7 at 1x, BD-rate against Draco -76.8 -> -80.5 %
     // at 1.5x, -82.9 -> -85.1 % at 1x; a 104,002-vertex armadillo (2x guide at 63.3 dB, 1x
     // 87.0 finished) takes 1x in 8.0-8.1 s instead of finishing 2x, 1.5x and 1x in 19-21 s.
+    // A decimation stopped above a density's target (at its floor: a deep hierarchy) stops there
+    // for every sparser target too, and one base gives one remesh (the bases of one decimation
+    // with as many vertices are the same): a sparser density whose base is the one before it is
+    // not made again, and a 2x remesh no sparser base differs from is not set aside (cow at L =
+    // 5 made the same remesh three times, 37 s instead of 18; docs/RESULTS.md).
     auto sparse_or_sparser = [&](Made& sparse, double from, double to, const FeatureLines& with,
                                  double abandon_below) -> std::optional<RemeshResult> {
-      make(sparse, from, from + 0.5 * (to - from), with, abandon_below, options.sparsest_density_psnr);
+      std::size_t before = auto_base(sparse.density, with).base.vertex_count();
+      const bool sparser_bases = std::any_of(std::begin(kSparserAutoDensities), std::end(kSparserAutoDensities),
+                                             [&](double d) { return auto_base(d, with).base.vertex_count() != before; });
+      make(sparse, from, from + 0.5 * (to - from), with, abandon_below,
+           sparser_bases ? options.sparsest_density_psnr : kNowhere);
       if (sparse.set_aside) {
         double at = from + 0.5 * (to - from);
         for (const double density : kSparserAutoDensities) {
+          const std::size_t base_vertices = auto_base(density, with).base.vertex_count();
+          if (base_vertices == std::exchange(before, base_vertices)) continue;
           Made sparser{density, std::nullopt, 0};
           make(sparser, at, at + 0.25 * (to - from), with, options.auto_density_psnr);
           at += 0.25 * (to - from);

@@ -1,5 +1,6 @@
 #include "remesh_options.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -112,6 +113,18 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
   if (result.feature_vertices > 0)
     std::fprintf(stderr, "%s: feature lines: %zu input edges; %zu remesh vertices placed on them\n", path.c_str(),
                  result.feature_edges, result.feature_vertices);
+  // A hierarchy too deep for the base the decimation can make: the vertex count runs away (cow
+  // at L = 5: 67x the input's), which fewer levels avoid.
+  if (result.method == RemeshMethod::decimate && result.density >= 1 && out > 2 * std::max(result.density, 4.0) * in) {
+    const std::size_t asked = automatic_remesh_base(input, h.levels(), result.density);  // checks the mesh again
+    char why[128] = "the fewest the automatic base size takes for this mesh's topology";
+    if (result.base_vertices > asked)
+      std::snprintf(why, sizeof why, "the decimation stops there, above the %zu that ~%gx asks for", asked, result.density);
+    std::fprintf(stderr,
+                 "%s: note: %d levels over a base of %zu vertices make %.0fx the input's vertices (%s); each level "
+                 "fewer divides that by about 4\n",
+                 path.c_str(), h.levels(), result.base_vertices, out / in, why);
+  }
   if (result.kept_vertices > 0)
     std::fprintf(stderr,
                  "%s: missing parts: the base stopped above its size and the remesh parted from the input; %zu "

@@ -6,6 +6,7 @@
 #include <tuple>
 #include <vector>
 
+#include "meshlift/decimate.h"
 #include "meshlift/mesh_io.h"
 #include "meshlift/metric.h"
 #include "meshlift/remesh.h"
@@ -292,6 +293,35 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   options.density = 0;
   options.base_vertices = 100;
   CHECK(remesh(input, options).density == 0);
+}
+
+TEST_CASE("The automatic density remeshes once a base that every density's decimation stops at", "[remesh][pipeline]") {
+  // Five levels over a 2,562-vertex sphere: the decimation stops at the same 8 vertices for the
+  // targets of 1x, 1.5x and 2x, so they have one base. Set aside, the 2x remesh would be made
+  // three times over, as 1x, as 1.5x, then finished.
+  const TriangleMesh input = test::bumpy_sphere();
+  RemeshOptions options;
+  options.levels = 5;
+  options.recognize = false;
+  options.missing_part_rounds = 0;
+  options.sparsest_density_psnr = 0;  // every 2x remesh with sparser bases is set aside
+  DecimateOptions two;
+  two.levels = options.levels;
+  two.target_vertices = automatic_remesh_base(input, options.levels, 2);
+  const std::size_t base = decimate(input, two).base.vertex_count();
+  for (const double density : kSparserAutoDensities) {
+    DecimateOptions sparser = two;
+    sparser.target_vertices = automatic_remesh_base(input, options.levels, density);
+    REQUIRE(decimate(input, sparser).base.vertex_count() == base);
+  }
+  const RemeshResult r = remesh(input, options);
+  CHECK(count(r, "place, then set aside") == 0);
+  CHECK(count(r, "guides, then set aside") == 0);
+  CHECK(count(r, "least squares and untangle") == 1);
+  CHECK(r.density == 2);
+  CHECK(r.mesh.hierarchy.vertex_count(0) == base);
+  options.density = 2;
+  CHECK(remesh(input, options).mesh.positions == r.mesh.positions);
 }
 
 TEST_CASE("The automatic density gives up a candidate that cannot qualify after its first placement, and chooses as if it had finished it", "[remesh][pipeline]") {

@@ -162,6 +162,23 @@ TEST_CASE("remesh --density sets the vertex count and --least-squares brings the
   fs::remove_all(dir);
 }
 
+TEST_CASE("remesh says when its levels make far more vertices than the density asks for", "[cli][remesh]") {
+  // 738 vertices: six levels over the sphere's smallest automatic base (8 vertices) make 24,578.
+  const fs::path dir = meshlift::test::cli_scratch("remesh_cli_deep");
+  const fs::path in = write_bumpy_sphere(dir / "bumpy.off");
+  const auto deep = run_cli("remesh " + in.string() + " -o " + (dir / "deep.ply").string() + " --levels 6");
+  INFO(deep.output);
+  REQUIRE(deep.exit_code == 0);
+  CHECK_THAT(deep.output, Catch::Contains("note: 6 levels over a base of 8 vertices make 33x the input's vertices (the "
+                                          "fewest the automatic base size takes for this mesh's topology); each level "
+                                          "fewer divides that by about 4"));
+  const auto shallow = run_cli("remesh " + in.string() + " -o " + (dir / "shallow.ply").string() + " --levels 3");
+  INFO(shallow.output);
+  REQUIRE(shallow.exit_code == 0);
+  CHECK_THAT(shallow.output, !Catch::Contains("levels over a base"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("remesh --snap puts a faceted input's corners and creases back into the remesh", "[cli][remesh][snap]") {
   // A coarse bumpy sphere (10 rings of 12 faces: its edges turn by 15-40 degrees) remeshed at
   // ~8x: without --snap the remesh cuts every crease by a chord.
