@@ -83,6 +83,9 @@ constexpr std::size_t kQuickSamples = 20'000;
 /// round: one or two per missed part (elephant's four feet at L = 4: 13 in all), not a cluster
 /// around the worst one. Measured on the corpus at L = 4 and 5 (docs/RESULTS.md).
 constexpr std::size_t kMissingPartsPerRound = 8;
+/// The most vertices an input's own refinement may have to be taken where the automatic density
+/// made nothing close enough (remesh()): a small input, up to 1,024 vertices at L = 3.
+constexpr double kInputRefinementVertices = 65'536;
 constexpr double kMissingPartSpacing = 0.05;
 
 /// PSNR of a mesh against the input on `samples` area samples a side.
@@ -122,6 +125,23 @@ constexpr double kNever = -std::numeric_limits<double>::infinity();
 /// ... and its set_aside_at for one that is never set aside.
 constexpr double kNowhere = std::numeric_limits<double>::infinity();
 
+/// The input itself as the base, refined `levels` times by midpoint splits: every new vertex on
+/// an input edge or face, so the remesh is the input exactly (RemeshResult::input_refined).
+/// nullopt where it folds or degenerates somewhere (an input face of zero area refines to
+/// degenerate ones).
+std::optional<RemeshResult> input_refinement(const TriangleMesh& mesh, const SurfaceQuery& surface, int levels) {
+  DecimateOptions none;
+  none.levels = levels;
+  none.target_vertices = mesh.vertex_count();
+  const DecimateResult input = decimate(mesh, none);  // the input as it stands (no isolated vertex), no collapse
+  RemeshResult exact{refine_linear(input.base, levels)};
+  const FoldOvers folds = find_fold_overs(exact.mesh.finest(), surface);
+  if (!folds.flipped.empty() || !folds.degenerate.empty()) return std::nullopt;
+  exact.base_vertices = input.base.vertex_count();
+  exact.input_refined = true;
+  return exact;
+}
+
 /// From the decimated base: fit the base, build the guide, place the refinement on the surface
 /// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
 /// by least squares, untangle again, and with `snap` move it onto the input's corners and creases
@@ -145,6 +165,16 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
                                                  std::vector<std::pair<std::string, double>>& stages) {
   StageClock clock(stages);
   report(0.1);
+  // A base that keeps half the input's vertices or more (a small input: the decimation stops at
+  // or near its topology's floor): the input's own midpoint refinement has about as many
+  // vertices and lies on the input exactly, where a placement from that base rounds it off (a
+  // cube at L = 3: 57 dB; an icosahedron from an 8-vertex base: 52.5 dB).
+  if (decimated.collapses <= decimated.base.vertex_count())
+    if (std::optional<RemeshResult> exact = input_refinement(mesh, surface, levels)) {
+      clock.lap("the input refined");
+      report(1);
+      return exact;
+    }
   const TriangleMesh& base = decimated.base;
 
   // Control points of the guide surface: the base itself, or fitted so that the Loop limit
@@ -537,7 +567,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   // vertices where the remesh and the input part are kept in the base, and the remesh made again,
   // each round with more of them; a round's remesh is kept where it is closer and folds no more.
   auto keep_missing_parts = [&](RemeshResult& result) {
-    if (result.method != RemeshMethod::decimate || result.recognized) return;
+    if (result.method != RemeshMethod::decimate || result.recognized || result.input_refined) return;
     const std::size_t target = options.base_vertices != 0 ? options.base_vertices : base_size(result.density);
     if (result.base_vertices <= target) return;
     const FeatureLines& with = result.feature_edges > 0 ? lines : no_lines;
@@ -796,6 +826,19 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     return std::move(*closest->remesh);
   }();
   keep_missing_parts(result);
+  // Where the automatic density made no remesh within auto_density_psnr of the input without a
+  // fold (but at its crossings), a small input's own midpoint refinement is the closest remesh
+  // there is: exact, at most kInputRefinementVertices vertices (docs/RESULTS.md, "Small inputs").
+  if (options.density == 0 && options.base_vertices == 0 && !result.input_refined &&
+      std::ldexp(static_cast<double>(mesh.vertex_count()), 2 * options.levels) <= kInputRefinementVertices &&
+      !(psnr(result) >= options.auto_density_psnr && fold_free(result))) {
+    StageClock clock(stages);
+    if (std::optional<RemeshResult> exact = input_refinement(mesh, surface, options.levels)) {
+      exact->density = result.density;
+      result = std::move(*exact);
+    }
+    clock.lap("the input refined");
+  }
   result.stage_seconds = std::move(stages);
   if (options.method == RemeshMethod::best && sphere_parametrization_problem(mesh).empty()) {
     // The octahedron level with the nearest vertex count: 4^(L+1) + 2 vertices.

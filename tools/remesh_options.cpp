@@ -115,7 +115,12 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  result.feature_edges, result.feature_vertices);
   // A hierarchy too deep for the base the decimation can make: the vertex count runs away (cow
   // at L = 5: 67x the input's), which fewer levels avoid.
-  if (result.method == RemeshMethod::decimate && result.density >= 1 && out > 2 * std::max(result.density, 4.0) * in) {
+  if (result.input_refined)
+    std::fprintf(stderr,
+                 "%s: the base is the input itself (a decimation would keep half its vertices or more), and the "
+                 "remesh its midpoint refinement, on the input exactly\n",
+                 path.c_str());
+  else if (result.method == RemeshMethod::decimate && result.density >= 1 && out > 2 * std::max(result.density, 4.0) * in) {
     const std::size_t asked = automatic_remesh_base(input, h.levels(), result.density);  // checks the mesh again
     char why[128] = "the fewest the automatic base size takes for this mesh's topology";
     if (result.base_vertices > asked)

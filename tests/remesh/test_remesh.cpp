@@ -61,6 +61,73 @@ TEST_CASE("Remeshing a smooth closed surface gives a close semi-regular mesh wit
   CHECK(surface_distance(input, unfitted.mesh.finest()).psnr_db() > 65);
 }
 
+TEST_CASE("A base that keeps half the input's vertices or more is the input, refined on it exactly", "[remesh][pipeline]") {
+  RemeshOptions options;
+  options.levels = 3;
+  options.recognize = false;
+  // The icosahedron: its decimation stops at 8 of its 12 vertices. Placed from there it was
+  // rounded off (52.5 dB); its own midpoint refinement is the icosahedron.
+  const TriangleMesh ico = test::icosahedron();
+  const RemeshResult r = remesh(ico, options);
+  CHECK(r.input_refined);
+  CHECK(r.base_vertices == 12);
+  CHECK(r.mesh.positions == refine_linear(ico, 3).positions);
+  CHECK(r.mesh.hierarchy.triangles(3) == refine_linear(ico, 3).hierarchy.triangles(3));
+  CHECK(r.flipped_triangles == 0);
+  CHECK(r.degenerate_triangles == 0);
+  CHECK(count(r, "the input refined") == 1);
+  CHECK(count(r, "place and compare") == 0);
+  CHECK(surface_distance(ico, r.mesh.finest()).rms_relative() < 1e-12);
+  // A base size given, half the input's or more: the input. A torus of 48 vertices.
+  const TriangleMesh torus = test::torus();
+  options.base_vertices = 24;
+  const RemeshResult asked = remesh(torus, options);
+  CHECK(asked.input_refined);
+  CHECK(asked.mesh.positions == refine_linear(torus, 3).positions);
+  CHECK(count(asked, "place and compare") == 0);
+  // One that decimates further: placed.
+  options.base_vertices = 20;
+  const RemeshResult placed = remesh(torus, options);
+  CHECK_FALSE(placed.input_refined);
+  CHECK(placed.base_vertices == 20);
+  CHECK(count(placed, "place and compare") == 1);
+  // An input face of zero area would refine to degenerate faces: placed instead.
+  options.base_vertices = 0;
+  TriangleMesh flat = test::grid(3);  // (0,0), (0.5,0), (1,0), ... ; face 0 = (0,0), (0.5,0), (0.5,0.5)
+  flat.positions[3] = flat.positions[4] = 0.25;  // vertex 1 onto the line from vertex 0 to vertex 4
+  const RemeshResult degenerate = remesh(flat, options);
+  CHECK_FALSE(degenerate.input_refined);
+  CHECK(count(degenerate, "place and compare") >= 1);
+}
+
+TEST_CASE("Where the automatic density makes nothing close enough, a small input's own refinement is taken", "[remesh][pipeline]") {
+  RemeshOptions options;
+  options.levels = 3;
+  options.recognize = false;
+  // A coarse torus (48 vertices, faceted): from its 14-vertex base no density reaches 75 dB.
+  const TriangleMesh torus = test::torus();
+  const RemeshResult r = remesh(torus, options);
+  CHECK(r.input_refined);
+  CHECK(r.mesh.positions == refine_linear(torus, 3).positions);
+  CHECK(count(r, "place and compare") >= 1);  // the densities were tried first
+  CHECK(count(r, "the input refined") == 1);
+  CHECK(r.flipped_triangles + r.degenerate_triangles == 0);
+  // A threshold the placed remesh meets: it is kept.
+  options.auto_density_psnr = options.dense_density_psnr = 30;
+  CHECK_FALSE(remesh(torus, options).input_refined);
+  // An explicit density: what was asked for.
+  options.auto_density_psnr = options.dense_density_psnr = 75;
+  options.density = 2;
+  CHECK_FALSE(remesh(torus, options).input_refined);
+  // An input whose refinement would have more than 65,536 vertices (260 x 4^4): not taken.
+  options.density = 0;
+  options.levels = 4;
+  options.auto_density_psnr = options.dense_density_psnr = 500;
+  const RemeshResult larger = remesh(test::torus(20, 13), options);
+  CHECK_FALSE(larger.input_refined);
+  CHECK(count(larger, "the input refined") == 0);
+}
+
 TEST_CASE("Remeshing keeps boundaries on the input's boundary", "[remesh][pipeline]") {
   const TriangleMesh input = wavy_sheet(21);
   RemeshOptions options;

@@ -1,6 +1,8 @@
 // Any triangle mesh -> semi-regular mesh (CODEC-NOTES §5): recognize subdivision connectivity
 // when the input already has it, else decimate to a base mesh, optionally fit the base by Loop
 // interpolation (seed 000), refine L times and move the refined vertices onto the input surface.
+// Where the decimation would keep half the input's vertices or more (a small input), the base is
+// the input itself and the remesh its midpoint refinement, exact (RemeshResult::input_refined).
 #pragma once
 
 #include <cstddef>
@@ -162,6 +164,9 @@ struct RemeshResult {
   /// The remesher that made `mesh` (decimate or sphere; also when `best` chose).
   RemeshMethod method = RemeshMethod::decimate;
   std::size_t base_vertices = 0;
+  /// True when the base is the input itself and `mesh` its midpoint refinement, on the input
+  /// exactly: where a decimation keeps half the input's vertices or more (a small input).
+  bool input_refined = false;
   /// Input edges on feature lines, and vertices of the result placed on them (features.h).
   std::size_t feature_edges = 0, feature_vertices = 0;
   /// Triangles of the result whose normal points away (> 90°) from the normal of the input face
