@@ -83,9 +83,6 @@ constexpr std::size_t kQuickSamples = 20'000;
 /// round: one or two per missed part (elephant's four feet at L = 4: 13 in all), not a cluster
 /// around the worst one. Measured on the corpus at L = 4 and 5 (docs/RESULTS.md).
 constexpr std::size_t kMissingPartsPerRound = 8;
-/// The most vertices an input's own refinement may have to be taken where the automatic density
-/// made nothing close enough (remesh()): a small input, up to 1,024 vertices at L = 3.
-constexpr double kInputRefinementVertices = 65'536;
 constexpr double kMissingPartSpacing = 0.05;
 
 /// PSNR of a mesh against the input on `samples` area samples a side.
@@ -393,6 +390,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   if (options.missing_part_rounds < 0 || !(options.missing_part_distance >= 0))
     throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
   if (std::isnan(options.give_up_margin)) throw MeshError("give_up_margin must be a number (infinity: never give up)");
+  if (!(options.input_refinement_vertices >= 0)) throw MeshError("input_refinement_vertices must be >= 0");
   if (options.density != 0 && !(options.density >= 1 && options.density <= 1024))
     throw MeshError("density must be 0 (automatic) or in [1, 1024], got " + std::to_string(options.density));
   if (options.levels < 0 || options.levels > kMaxLevels)
@@ -828,9 +826,9 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   keep_missing_parts(result);
   // Where the automatic density made no remesh within auto_density_psnr of the input without a
   // fold (but at its crossings), a small input's own midpoint refinement is the closest remesh
-  // there is: exact, at most kInputRefinementVertices vertices (docs/RESULTS.md, "Small inputs").
+  // there is: exact, at most RemeshOptions::input_refinement_vertices vertices.
   if (options.density == 0 && options.base_vertices == 0 && !result.input_refined &&
-      std::ldexp(static_cast<double>(mesh.vertex_count()), 2 * options.levels) <= kInputRefinementVertices &&
+      std::ldexp(static_cast<double>(mesh.vertex_count()), 2 * options.levels) <= options.input_refinement_vertices &&
       !(psnr(result) >= options.auto_density_psnr && fold_free(result))) {
     StageClock clock(stages);
     if (std::optional<RemeshResult> exact = input_refinement(mesh, surface, options.levels)) {

@@ -112,6 +112,12 @@ TEST_CASE("Where the automatic density makes nothing close enough, a small input
   CHECK(count(r, "place and compare") >= 1);  // the densities were tried first
   CHECK(count(r, "the input refined") == 1);
   CHECK(r.flipped_triangles + r.degenerate_triangles == 0);
+  // Turned off: the closest remesh made, as before.
+  options.input_refinement_vertices = 0;
+  CHECK_FALSE(remesh(torus, options).input_refined);
+  options.input_refinement_vertices = -1;
+  CHECK_THROWS_AS(remesh(torus, options), MeshError);
+  options.input_refinement_vertices = RemeshOptions{}.input_refinement_vertices;
   // A threshold the placed remesh meets: it is kept.
   options.auto_density_psnr = options.dense_density_psnr = 30;
   CHECK_FALSE(remesh(torus, options).input_refined);
@@ -266,6 +272,7 @@ TEST_CASE("The automatic density keeps the sparser remesh only when it is close 
   RemeshOptions options;
   options.levels = 2;
   options.recognize = false;
+  options.input_refinement_vertices = 0;  // thresholds no remesh meets below: the ladder, not the input's refinement
   REQUIRE(options.density == 0);  // automatic by default
   MetricOptions metric;
   metric.samples = 200'000;

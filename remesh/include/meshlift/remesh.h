@@ -137,6 +137,13 @@ struct RemeshOptions {
   /// turbine 53.7 -> 84.0 dB with 1 fold instead of 9; docs/RESULTS.md). 0 turns it off.
   int missing_part_rounds = 3;
   double missing_part_distance = 2e-3;
+  /// With the automatic density, where no density makes a remesh within auto_density_psnr of the
+  /// input without a fold (but at its crossings), the input's own midpoint refinement (exact:
+  /// RemeshResult::input_refined) is taken instead if it has at most this many vertices (4^L
+  /// times the input's: small inputs, up to 1,024 vertices at L = 3; docs/RESULTS.md, "Small
+  /// inputs"). 0 turns it off. (Where the decimation would keep half the input's vertices or
+  /// more, the refinement is taken whatever this is.)
+  double input_refinement_vertices = 65'536;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
   /// (the corpus's camel is one) leaves too coarse a base for the wavelets, so such a mesh is
