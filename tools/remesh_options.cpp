@@ -113,14 +113,15 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
   if (result.feature_vertices > 0)
     std::fprintf(stderr, "%s: feature lines: %zu input edges; %zu remesh vertices placed on them\n", path.c_str(),
                  result.feature_edges, result.feature_vertices);
-  // A hierarchy too deep for the base the decimation can make: the vertex count runs away (cow
-  // at L = 5: 67x the input's), which fewer levels avoid.
-  if (result.input_refined)
+  if (result.input_refined) {
     std::fprintf(stderr,
-                 "%s: the base is the input itself (a decimation would keep half its vertices or more), and the "
-                 "remesh its midpoint refinement, on the input exactly\n",
+                 "%s: the base is the input itself and the remesh its midpoint refinement, on the input exactly (a "
+                 "small input: a smaller base would keep most of it, or remesh it short of 75 dB)\n",
                  path.c_str());
-  else if (result.method == RemeshMethod::decimate && result.density >= 1 && out > 2 * std::max(result.density, 4.0) * in) {
+  } else if (result.method == RemeshMethod::decimate && result.density >= 1 &&
+             out > 2 * std::max(result.density, 4.0) * in) {
+    // A hierarchy too deep for the base the decimation can make: the vertex count runs away (cow
+    // at L = 5: 67x the input's), which fewer levels avoid.
     const std::size_t asked = automatic_remesh_base(input, h.levels(), result.density);  // checks the mesh again
     char why[128] = "the fewest the automatic base size takes for this mesh's topology";
     if (result.base_vertices > asked)

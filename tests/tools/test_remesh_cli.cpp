@@ -179,6 +179,23 @@ TEST_CASE("remesh says when its levels make far more vertices than the density a
   fs::remove_all(dir);
 }
 
+TEST_CASE("remesh refines a cube as it is, and says so", "[cli][remesh]") {
+  const fs::path dir = meshlift::test::cli_scratch("remesh_cli_cube");
+  const fs::path in = dir / "cube.off";
+  std::ofstream(in) << "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                       "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  const auto r = run_cli("remesh " + in.string() + " -o " + (dir / "cube.ply").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Catch::Contains("base 8, 3 levels, 386 vertices"));
+  CHECK_THAT(r.output, Catch::Contains("the base is the input itself and the remesh its midpoint refinement, on the "
+                                       "input exactly"));
+  CHECK_THAT(r.output, Catch::Contains("0 flipped and 0 degenerate"));
+  CHECK(psnr_in(r.output.substr(r.output.find("remesh error"))) > 200);  // rounding only (was 57 dB)
+  CHECK_THAT(r.output, !Catch::Contains("levels over a base"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("remesh --snap puts a faceted input's corners and creases back into the remesh", "[cli][remesh][snap]") {
   // A coarse bumpy sphere (10 rings of 12 faces: its edges turn by 15-40 degrees) remeshed at
   // ~8x: without --snap the remesh cuts every crease by a chord.
