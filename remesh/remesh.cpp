@@ -139,7 +139,7 @@ std::optional<RemeshResult> input_refinement(const TriangleMesh& mesh, const Sur
   return exact;
 }
 
-/// From the decimated base: fit the base, build the guide, place the refinement on the surface
+/// From the decimated base (`asked_base`: the base size asked for, before any floor): fit the base, build the guide, place the refinement on the surface
 /// (level 1 on normal lines where that folds nothing) and untangle it (place_refinement), fit it
 /// by least squares, untangle again, and with `snap` move it onto the input's corners and creases
 /// (snap.h). With --fit loop there are two guides; the placement that
@@ -154,7 +154,8 @@ std::optional<RemeshResult> input_refinement(const TriangleMesh& mesh, const Sur
 /// receives the placement's PSNR (kQuickSamples a side) when it stops there, kNowhere when it
 /// stops at its guides. kNever, kNowhere: never.
 std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface,
-                                                 const DecimateResult& decimated, const FeatureLines& lines, int levels,
+                                                 const DecimateResult& decimated, std::size_t asked_base,
+                                                 const FeatureLines& lines, int levels,
                                                  BaseFit fit, int least_squares_rounds, bool snap, double abandon_below,
                                                  double set_aside_at, double set_aside_guide_at, double give_up_margin,
                                                  double* placed_psnr,
@@ -162,11 +163,13 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
                                                  std::vector<std::pair<std::string, double>>& stages) {
   StageClock clock(stages);
   report(0.1);
-  // A base that keeps half the input's vertices or more (a small input: the decimation stops at
-  // or near its topology's floor): the input's own midpoint refinement has about as many
-  // vertices and lies on the input exactly, where a placement from that base rounds it off (a
-  // cube at L = 3: 57 dB; an icosahedron from an 8-vertex base: 52.5 dB).
-  if (decimated.collapses <= decimated.base.vertex_count())
+  // A base that keeps half the input's vertices or more where less was asked for (`asked_base`,
+  // before any floor: a small input, the decimation stopped at or near its topology's floor), or
+  // all of them: the input's own midpoint refinement has about as many vertices and lies on the
+  // input exactly, where a placement from that base rounds it off (a cube at L = 3: 57 dB; an
+  // icosahedron from an 8-vertex base: 52.5 dB).
+  const std::size_t kept = decimated.base.vertex_count(), input_vertices = kept + decimated.collapses;
+  if (decimated.collapses == 0 || (2 * kept >= input_vertices && 2 * asked_base < input_vertices))
     if (std::optional<RemeshResult> exact = input_refinement(mesh, surface, levels)) {
       clock.lap("the input refined");
       report(1);
@@ -370,13 +373,16 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
 
 /// automatic_remesh_base() for an input of `vertices` vertices whose automatic_base_vertices()
 /// is `decimator_floor` (it validates the mesh: worth computing once).
+/// The base size for about `density` x `vertices` after `levels` refinements: ceil(D V / 4^L).
+std::size_t base_from_density(std::size_t vertices, int levels, double density) {
+  return static_cast<std::size_t>(std::ceil(density * static_cast<double>(vertices) / std::ldexp(1.0, 2 * levels)));
+}
+
 std::size_t base_for_density(std::size_t vertices, int levels, double density, std::size_t decimator_floor) {
   // Below 1 the decimator's own automatic size, ceil(V / 4^L), would take over anyway.
   if (!(density >= 1 && density <= 1024))
     throw MeshError("density must be in [1, 1024], got " + std::to_string(density));
-  const double refinement = std::ldexp(1.0, 2 * levels);
-  const auto from_density = static_cast<std::size_t>(std::ceil(density * static_cast<double>(vertices) / refinement));
-  return std::max(from_density, decimator_floor);
+  return std::max(base_from_density(vertices, levels, density), decimator_floor);
 }
 
 }  // namespace
@@ -533,8 +539,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   auto remesh_base = [&](const DecimateResult& decimated, double density, double from, double to,
                          const FeatureLines& with, double abandon_below = kNever, double* placed_psnr = nullptr,
                          double set_aside_at = kNowhere) {
+    const std::size_t asked =
+        options.base_vertices != 0 ? options.base_vertices : base_from_density(mesh.vertex_count(), options.levels, density);
     std::optional<RemeshResult> r = remesh_by_decimation(
-        mesh, surface, decimated, with, options.levels, options.fit, options.least_squares_rounds, options.snap, abandon_below,
+        mesh, surface, decimated, asked, with, options.levels, options.fit, options.least_squares_rounds, options.snap, abandon_below,
         set_aside_at, set_aside_at < kNowhere ? options.sparsest_guide_psnr : kNowhere, options.give_up_margin, placed_psnr,
         [&](double f) { report(from + (to - from) * f); }, stages);
     if (r) r->density = options.base_vertices != 0 ? 0 : density;

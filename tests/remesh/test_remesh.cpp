@@ -78,21 +78,27 @@ TEST_CASE("A base that keeps half the input's vertices or more is the input, ref
   CHECK(count(r, "the input refined") == 1);
   CHECK(count(r, "place and compare") == 0);
   CHECK(surface_distance(ico, r.mesh.finest()).rms_relative() < 1e-12);
-  // A base size given, half the input's or more: the input. A torus of 48 vertices.
+  // A torus of 48 vertices, asked for all of them: the input. Asked for half: what was asked.
   const TriangleMesh torus = test::torus();
+  options.base_vertices = 48;
+  const RemeshResult all = remesh(torus, options);
+  CHECK(all.input_refined);
+  CHECK(all.mesh.positions == refine_linear(torus, 3).positions);
+  CHECK(count(all, "place and compare") == 0);
   options.base_vertices = 24;
-  const RemeshResult asked = remesh(torus, options);
-  CHECK(asked.input_refined);
-  CHECK(asked.mesh.positions == refine_linear(torus, 3).positions);
-  CHECK(count(asked, "place and compare") == 0);
-  // One that decimates further: placed.
-  options.base_vertices = 20;
-  const RemeshResult placed = remesh(torus, options);
-  CHECK_FALSE(placed.input_refined);
-  CHECK(placed.base_vertices == 20);
-  CHECK(count(placed, "place and compare") == 1);
-  // An input face of zero area would refine to degenerate faces: placed instead.
+  const RemeshResult half = remesh(torus, options);
+  CHECK_FALSE(half.input_refined);
+  CHECK(half.base_vertices == 24);
+  CHECK(count(half, "place and compare") == 1);
+  // One level at the automatic density: 2x asks for half the input's vertices, a density's own
+  // base, not a floor's (1x, 1.5x and 2x remeshes, not the input's 4x refinement).
   options.base_vertices = 0;
+  options.levels = 1;
+  const RemeshResult one_level = remesh(test::bumpy_sphere(), options);
+  CHECK_FALSE(one_level.input_refined);
+  CHECK(one_level.base_vertices <= 1281);
+  options.levels = 3;
+  // An input face of zero area would refine to degenerate faces: placed instead.
   TriangleMesh flat = test::grid(3);  // (0,0), (0.5,0), (1,0), ... ; face 0 = (0,0), (0.5,0), (0.5,0.5)
   flat.positions[3] = flat.positions[4] = 0.25;  // vertex 1 onto the line from vertex 0 to vertex 4
   const RemeshResult degenerate = remesh(flat, options);

@@ -1,8 +1,9 @@
 // Any triangle mesh -> semi-regular mesh (CODEC-NOTES §5): recognize subdivision connectivity
 // when the input already has it, else decimate to a base mesh, optionally fit the base by Loop
 // interpolation (seed 000), refine L times and move the refined vertices onto the input surface.
-// Where the decimation would keep half the input's vertices or more (a small input), the base is
-// the input itself and the remesh its midpoint refinement, exact (RemeshResult::input_refined).
+// Where the decimation keeps half the input's vertices or more although fewer were asked for (a
+// small input, at its topology's floor), the base is the input itself and the remesh its
+// midpoint refinement, exact (RemeshResult::input_refined).
 #pragma once
 
 #include <cstddef>
@@ -141,8 +142,8 @@ struct RemeshOptions {
   /// input without a fold (but at its crossings), the input's own midpoint refinement (exact:
   /// RemeshResult::input_refined) is taken instead if it has at most this many vertices (4^L
   /// times the input's: small inputs, up to 1,024 vertices at L = 3; docs/RESULTS.md, "Small
-  /// inputs"). 0 turns it off. (Where the decimation would keep half the input's vertices or
-  /// more, the refinement is taken whatever this is.)
+  /// inputs"). 0 turns it off. (Where the decimation keeps half the input's vertices or more
+  /// although fewer were asked for, the refinement is taken whatever this is.)
   double input_refinement_vertices = 65'536;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
@@ -172,7 +173,7 @@ struct RemeshResult {
   RemeshMethod method = RemeshMethod::decimate;
   std::size_t base_vertices = 0;
   /// True when the base is the input itself and `mesh` its midpoint refinement, on the input
-  /// exactly: where a decimation keeps half the input's vertices or more (a small input).
+  /// exactly: a small input (RemeshOptions::input_refinement_vertices, remesh.h's header).
   bool input_refined = false;
   /// Input edges on feature lines, and vertices of the result placed on them (features.h).
   std::size_t feature_edges = 0, feature_vertices = 0;
