@@ -230,6 +230,24 @@ TEST_CASE("Development meshes that still fold fold only where the input passes t
   }
 }
 
+TEST_CASE("A small CAD input whose remesh folds is refined as it is instead", "[corpus][remesh][pipeline]") {
+  // ALSTOM_TEST4 (1,138 vertices): its automatic remesh kept 12 folded faces, 3 away from the
+  // input's crossings, at 79.1 dB. Its refinement has 65,986 vertices: over the bound for a
+  // remesh merely short of 75 dB (65,536), within the one for a failed remesh (16 times that).
+  const TriangleMesh input = to_triangle_mesh(read_mesh(test::corpus_mesh_path("ALSTOM_TEST4")));
+  RemeshOptions options;
+  const RemeshResult result = remesh(input, options);
+  CHECK(result.input_refined);
+  CHECK(result.flipped_triangles == 0);
+  CHECK(result.degenerate_triangles == 0);
+  CHECK(result.mesh.hierarchy.vertex_count(3) > options.input_refinement_vertices);
+  CHECK(surface_distance(input, result.mesh.finest()).psnr_db() > 200);
+  options.input_refinement_vertices = 0;  // off: the failed remesh, as before
+  const RemeshResult before = remesh(input, options);
+  CHECK_FALSE(before.input_refined);
+  CHECK(before.flipped_triangles > before.flipped_where_input_crosses);
+}
+
 TEST_CASE("Turbine at ~16x: no folded face, within 85 dB", "[corpus][remesh][pipeline]") {
   // Turbine's disk and blades are a few base edges thick at ~16x. The untangling's vertex passes
   // left 5 folded faces there (85.84 dB); their direct search on the fold test, where the linear

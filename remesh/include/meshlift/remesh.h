@@ -142,7 +142,8 @@ struct RemeshOptions {
   /// input without a fold (but at its crossings), the input's own midpoint refinement (exact:
   /// RemeshResult::input_refined) is taken instead if it has at most this many vertices (4^L
   /// times the input's: small inputs, up to 1,024 vertices at L = 3; docs/RESULTS.md, "Small
-  /// inputs"). 0 turns it off. (Where the decimation keeps half the input's vertices or more
+  /// inputs"), or at most 16 times as many where the remesh kept folds away from the input's
+  /// crossings (a failed remesh: up to 16,384 input vertices at L = 3). 0 turns it off. (Where the decimation keeps half the input's vertices or more
   /// although fewer were asked for, the refinement is taken whatever this is.)
   double input_refinement_vertices = 65'536;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
