@@ -373,7 +373,8 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
 
 /// automatic_remesh_base() for an input of `vertices` vertices whose automatic_base_vertices()
 /// is `decimator_floor` (it validates the mesh: worth computing once).
-/// The base size for about `density` x `vertices` after `levels` refinements: ceil(D V / 4^L).
+/// The base size for about `density` x `vertices` after `levels` refinements: ceil(D V / 4^L),
+/// a 1:4 refinement multiplying the vertex count by about 4 (decimate.cpp, automatic_target).
 std::size_t base_from_density(std::size_t vertices, int levels, double density) {
   return static_cast<std::size_t>(std::ceil(density * static_cast<double>(vertices) / std::ldexp(1.0, 2 * levels)));
 }
@@ -545,6 +546,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
         mesh, surface, decimated, asked, with, options.levels, options.fit, options.least_squares_rounds, options.snap, abandon_below,
         set_aside_at, set_aside_at < kNowhere ? options.sparsest_guide_psnr : kNowhere, options.give_up_margin, placed_psnr,
         [&](double f) { report(from + (to - from) * f); }, stages);
+    if (r && !r->input_refined) r->target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(density);
     if (r) r->density = options.base_vertices != 0 ? 0 : density;
     return r;
   };
@@ -569,12 +571,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     note_crossings(r);
     return r.flipped_triangles == r.flipped_where_input_crosses && r.degenerate_triangles == 0;
   };
+  // What the automatic density keeps: close enough to the input, and fold-free as above.
+  auto qualifies = [&](RemeshResult& r, double db) { return db >= options.auto_density_psnr && fold_free(r); };
   // RemeshOptions::missing_part_rounds: where the decimation stopped above its target, the input
   // vertices where the remesh and the input part are kept in the base, and the remesh made again,
   // each round with more of them; a round's remesh is kept where it is closer and folds no more.
   auto keep_missing_parts = [&](RemeshResult& result) {
     if (result.method != RemeshMethod::decimate || result.recognized || result.input_refined) return;
-    const std::size_t target = options.base_vertices != 0 ? options.base_vertices : base_size(result.density);
+    const std::size_t target = result.target_base_vertices;
     if (result.base_vertices <= target) return;
     const FeatureLines& with = result.feature_edges > 0 ? lines : no_lines;
     const double diagonal = checked.bbox_diagonal;
@@ -673,7 +677,6 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     // Automatic density: the sparsest remesh that is close enough to the input and folds
     // nowhere (but where the input passes through itself), 2x, then 3x with a margin, else the
     // closest of the three (turbine: 70.0 dB at 2x, 53.4 at 4x).
-    auto qualifies = [&](RemeshResult& r, double db) { return db >= options.auto_density_psnr && fold_free(r); };
     // A candidate that must reach some PSNR to be kept is given up after its first placement
     // where that shows it cannot (remesh_by_decimation): mannequin-devil's 2x remeshes (55.6 dB
     // as first placed, 60.4 finished; 75 needed) cost a placement each instead of a remesh.
@@ -839,9 +842,10 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   // faces at 50.7 dB; b9_mesh 145 at 49.5 dB; docs/RESULTS.md, "Small inputs").
   if (options.density == 0 && options.base_vertices == 0 && !result.input_refined) {
     const bool failed = !fold_free(result);
+    // About 4^L V vertices: each 1:4 refinement adds a vertex per edge, V + E ≈ 4V (E ≈ 3V).
     const double refinement_vertices = std::ldexp(static_cast<double>(mesh.vertex_count()), 2 * options.levels);
     if (refinement_vertices <= (failed ? 16 : 1) * options.input_refinement_vertices &&
-        (failed || !(psnr(result) >= options.auto_density_psnr))) {
+        (failed || !qualifies(result, psnr(result)))) {
       StageClock clock(stages);
       if (std::optional<RemeshResult> exact = input_refinement(mesh, surface, options.levels)) {
         exact->density = result.density;

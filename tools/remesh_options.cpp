@@ -122,7 +122,7 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
              out > 2 * std::max(result.density, 4.0) * in) {
     // A hierarchy too deep for the base the decimation can make: the vertex count runs away (cow
     // at L = 5: 67x the input's), which fewer levels avoid.
-    const std::size_t asked = automatic_remesh_base(input, h.levels(), result.density);  // checks the mesh again
+    const std::size_t asked = result.target_base_vertices;
     char why[128] = "the fewest the automatic base size takes for this mesh's topology";
     if (result.base_vertices > asked)
       std::snprintf(why, sizeof why, "the decimation stops there, above the %zu that ~%gx asks for", asked, result.density);

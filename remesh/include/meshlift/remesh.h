@@ -173,6 +173,10 @@ struct RemeshResult {
   /// The remesher that made `mesh` (decimate or sphere; also when `best` chose).
   RemeshMethod method = RemeshMethod::decimate;
   std::size_t base_vertices = 0;
+  /// The base size the decimation was asked for (RemeshOptions::base_vertices, or the density's,
+  /// automatic_remesh_base()); base_vertices is larger where the decimation stopped above it. 0
+  /// when the input was taken over, refined as it is, or remeshed through the sphere.
+  std::size_t target_base_vertices = 0;
   /// True when the base is the input itself and `mesh` its midpoint refinement, on the input
   /// exactly: a small input (RemeshOptions::input_refinement_vertices, remesh.h's header).
   bool input_refined = false;
