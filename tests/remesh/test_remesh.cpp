@@ -29,6 +29,26 @@ std::ptrdiff_t count(const RemeshResult& r, const std::string& stage) {
   return std::count_if(r.stage_seconds.begin(), r.stage_seconds.end(), [&](const auto& s) { return s.first == stage; });
 }
 
+/// A remesh of `input` at L = 3 with nothing recognized, checked to be the input's own midpoint
+/// refinement (RemeshResult::input_refined): the same faces, positions and vertex count.
+RemeshResult remesh_refined(const TriangleMesh& input, const RemeshOptions& options) {
+  RemeshResult r = remesh(input, options);
+  CHECK(r.input_refined);
+  const SemiRegularMesh refined = refine_linear(input, options.levels);
+  CHECK(r.mesh.positions == refined.positions);
+  CHECK(r.mesh.hierarchy.triangles(options.levels) == refined.hierarchy.triangles(options.levels));
+  CHECK(r.flipped_triangles + r.degenerate_triangles == 0);
+  return r;
+}
+
+/// Options for remeshing small inputs: three levels, the input never taken over as it is.
+RemeshOptions small_input_options() {
+  RemeshOptions options;
+  options.levels = 3;
+  options.recognize = false;
+  return options;
+}
+
 }  // namespace
 
 TEST_CASE("Remeshing a smooth closed surface gives a close semi-regular mesh without folds", "[remesh][pipeline]") {
@@ -62,29 +82,19 @@ TEST_CASE("Remeshing a smooth closed surface gives a close semi-regular mesh wit
 }
 
 TEST_CASE("A base that keeps half the input's vertices or more is the input, refined on it exactly", "[remesh][pipeline]") {
-  RemeshOptions options;
-  options.levels = 3;
-  options.recognize = false;
+  RemeshOptions options = small_input_options();
   // The icosahedron: its decimation stops at 8 of its 12 vertices. Placed from there it was
   // rounded off (52.5 dB); its own midpoint refinement is the icosahedron.
   const TriangleMesh ico = test::icosahedron();
-  const RemeshResult r = remesh(ico, options);
-  CHECK(r.input_refined);
+  const RemeshResult r = remesh_refined(ico, options);
   CHECK(r.base_vertices == 12);
-  CHECK(r.mesh.positions == refine_linear(ico, 3).positions);
-  CHECK(r.mesh.hierarchy.triangles(3) == refine_linear(ico, 3).hierarchy.triangles(3));
-  CHECK(r.flipped_triangles == 0);
-  CHECK(r.degenerate_triangles == 0);
   CHECK(count(r, "the input refined") == 1);
   CHECK(count(r, "place and compare") == 0);
   CHECK(surface_distance(ico, r.mesh.finest()).rms_relative() < 1e-12);
   // A torus of 48 vertices, asked for all of them: the input. Asked for half: what was asked.
   const TriangleMesh torus = test::torus();
   options.base_vertices = 48;
-  const RemeshResult all = remesh(torus, options);
-  CHECK(all.input_refined);
-  CHECK(all.mesh.positions == refine_linear(torus, 3).positions);
-  CHECK(count(all, "place and compare") == 0);
+  CHECK(count(remesh_refined(torus, options), "place and compare") == 0);
   options.base_vertices = 24;
   const RemeshResult half = remesh(torus, options);
   CHECK_FALSE(half.input_refined);
@@ -107,17 +117,12 @@ TEST_CASE("A base that keeps half the input's vertices or more is the input, ref
 }
 
 TEST_CASE("Where the automatic density makes nothing close enough, a small input's own refinement is taken", "[remesh][pipeline]") {
-  RemeshOptions options;
-  options.levels = 3;
-  options.recognize = false;
+  RemeshOptions options = small_input_options();
   // A coarse torus (48 vertices, faceted): from its 14-vertex base no density reaches 75 dB.
   const TriangleMesh torus = test::torus();
-  const RemeshResult r = remesh(torus, options);
-  CHECK(r.input_refined);
-  CHECK(r.mesh.positions == refine_linear(torus, 3).positions);
+  const RemeshResult r = remesh_refined(torus, options);
   CHECK(count(r, "place and compare") >= 1);  // the densities were tried first
   CHECK(count(r, "the input refined") == 1);
-  CHECK(r.flipped_triangles + r.degenerate_triangles == 0);
   // Turned off: the closest remesh made, as before.
   options.input_refinement_vertices = 0;
   CHECK_FALSE(remesh(torus, options).input_refined);
