@@ -95,6 +95,19 @@ double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, s
   return remesh_psnr(input, remeshed.finest(), samples);
 }
 
+/// The untangling right after a placement: patches only, and no relaxation: the least-squares
+/// rounds move every vertex again, and per-vertex moves made before them shifted their result
+/// for no fewer folds after (camel -0.3 dB); a patch relaxed there cost cow's 8x remesh 1.7 dB
+/// (76.2 -> 74.4).
+void untangle_patches(SemiRegularMesh& mesh, const SurfaceQuery& surface, std::span<const std::uint8_t> fixed) {
+  UntangleOptions patches_only;
+  patches_only.vertex_passes = 0;
+  patches_only.relaxation_steps = 0;
+  patches_only.rounds = 1;
+  patches_only.fixed = fixed;
+  untangle(mesh, surface, patches_only);
+}
+
 /// Places the refined base on the surface from `guide` and untangles its folded patches.
 SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const std::vector<double>& guide,
                                  bool normal_lines, const SurfaceQuery& surface, std::span<const std::uint8_t> fixed,
@@ -105,16 +118,86 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
   fit_options.progress = report;
   fit_options.fixed = fixed;
   fit_to_surface(mesh, guide, surface, fit_options);
-  // Patches only, and no relaxation: the least-squares rounds move every vertex again, and
-  // per-vertex moves made before them shifted their result for no fewer folds after (camel
-  // -0.3 dB); a patch relaxed there cost cow's 8x remesh 1.7 dB (76.2 -> 74.4).
-  UntangleOptions patches_only;
-  patches_only.vertex_passes = 0;
-  patches_only.relaxation_steps = 0;
-  patches_only.rounds = 1;
-  patches_only.fixed = fixed;
-  untangle(mesh, surface, patches_only);
+  untangle_patches(mesh, surface, fixed);
   return mesh;
+}
+
+/// A placement's last stage: the least-squares fit, then the untangling once more (the solve
+/// keeps faces that face the input from turning away, but a face can still end up nearest to
+/// another part of the input), and with `snap` the snap onto the input's corners and creases.
+/// `features` (per vertex of the finest level, or empty): 1 where a vertex holds its place on a
+/// feature line; where a face still folds there, its corners on the line are let go and
+/// untangled with the rest.
+SnapReport finish_placement(SemiRegularMesh& mesh, const SurfaceQuery& surface, std::span<const std::uint8_t> features,
+                            int least_squares_rounds, bool snap) {
+  LeastSquaresFitOptions least_squares;
+  least_squares.iterations = least_squares_rounds;
+  least_squares.fixed = features;
+  fit_least_squares(mesh, surface, least_squares);
+  std::vector<std::uint8_t> fixed(features.begin(), features.end());
+  UntangleOptions untangle_options;
+  untangle_options.fixed = fixed;
+  untangle(mesh, surface, untangle_options);
+  if (std::any_of(fixed.begin(), fixed.end(), [](std::uint8_t f) { return f != 0; })) {
+    const FoldOvers folds = find_fold_overs(mesh.finest(), surface);
+    const std::vector<std::uint32_t>& finest = mesh.hierarchy.triangles(mesh.hierarchy.levels());
+    bool released = false;
+    for (const auto* list : {&folds.flipped, &folds.degenerate})
+      for (const std::uint32_t f : *list)
+        for (int i = 0; i < 3; ++i) {
+          const std::uint32_t v = finest[3 * std::size_t{f} + i];
+          released |= fixed[v] != 0;
+          fixed[v] = 0;
+        }
+    if (released) untangle(mesh, surface, untangle_options);
+  }
+  // Last, so that it can add no fold: a snap turns no face away from the input (snap.h). Made
+  // before the untangling instead, it changed what that left: mannequin-devil at ~4x 7 folded
+  // faces -> 11, cow at ~16x 3 -> 0.
+  if (!snap) return {};
+  SnapOptions snapping;
+  snapping.fixed = fixed;
+  return snap_to_input(mesh, surface, snapping);
+}
+
+/// `coarse` one level deeper (RemeshOptions::level_by_level_from): its base refined once more,
+/// the new vertices shot onto the surface from their butterfly predictions while every vertex of
+/// `coarse` holds its place (surface_fit.h, as place_refinement), then the placement finished as
+/// one from the base (finish_placement) over all vertices. Feature lines are not held at the new
+/// level: its vertices start on the butterfly prediction of the level below, which follows them.
+RemeshResult refined_once_more(const RemeshResult& coarse, const SurfaceQuery& surface, int least_squares_rounds, bool snap,
+                               const std::function<void(double)>& report) {
+  const SemiRegularHierarchy& from = coarse.mesh.hierarchy;
+  const int levels = from.levels() + 1;
+  const SemiRegularHierarchy h(TriangleTopology::build(from.vertex_count(0), from.triangles(0)), levels);
+  // The hierarchies number their vertices alike up to from's finest level (level by level, a
+  // level's new vertices in the order of the edges they split).
+  std::vector<double> guide = coarse.mesh.positions;
+  guide.resize(3 * std::size_t{h.vertex_count(levels)}, 0.0);  // the new level starts at butterfly's prediction
+  std::vector<std::uint8_t> held(h.vertex_count(levels), 0);
+  std::fill_n(held.begin(), from.vertex_count(from.levels()), std::uint8_t{1});
+  RemeshResult result{SemiRegularMesh{h, {}, {}}};
+  SurfaceFitOptions fit_options;
+  fit_options.progress = [&](double f) { report(0.4 * f); };
+  fit_options.fixed = held;
+  fit_to_surface(result.mesh, guide, surface, fit_options);
+  untangle_patches(result.mesh, surface, {});  // the coarser vertices free to move again
+  report(0.4);
+  const SnapReport snapped = finish_placement(result.mesh, surface, {}, least_squares_rounds, snap);
+  const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
+  result.density = coarse.density;
+  result.base_vertices = coarse.base_vertices;
+  result.target_base_vertices = coarse.target_base_vertices;
+  result.direct_levels = coarse.direct_levels;
+  result.feature_edges = coarse.feature_edges;
+  result.feature_vertices = coarse.feature_vertices;
+  result.kept_vertices = coarse.kept_vertices;
+  result.flipped_triangles = folds.flipped.size();
+  result.degenerate_triangles = folds.degenerate.size();
+  result.snapped_to_vertices = snapped.onto_vertices;
+  result.snapped_to_creases = snapped.onto_creases;
+  report(1);
+  return result;
 }
 
 /// remesh_by_decimation's abandon_below for a remesh that is never given up ...
@@ -288,41 +371,8 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
     }
     return std::move(*chosen);
   };
-  // Least-squares fit, then untangle once more (the solve keeps faces that face the input from
-  // turning away, but a face can still end up nearest to another part of the input); recounts
-  // the folds.
   auto finish = [&](Placed& placed) {
-    LeastSquaresFitOptions least_squares;
-    least_squares.iterations = least_squares_rounds;
-    least_squares.fixed = features.fixed;
-    fit_least_squares(*placed.mesh, surface, least_squares);
-    std::vector<std::uint8_t> fixed = features.fixed;
-    UntangleOptions untangle_options;
-    untangle_options.fixed = fixed;
-    untangle(*placed.mesh, surface, untangle_options);
-    // Where a face still folds at a feature line, its corners on the line are let go and
-    // untangled with the rest.
-    if (features.count() > 0) {
-      const FoldOvers folds = find_fold_overs(placed.mesh->finest(), surface);
-      const std::vector<std::uint32_t>& finest = placed.mesh->hierarchy.triangles(placed.mesh->hierarchy.levels());
-      bool released = false;
-      for (const auto* list : {&folds.flipped, &folds.degenerate})
-        for (const std::uint32_t f : *list)
-          for (int i = 0; i < 3; ++i) {
-            const std::uint32_t v = finest[3 * std::size_t{f} + i];
-            released |= fixed[v] != 0;
-            fixed[v] = 0;
-          }
-      if (released) untangle(*placed.mesh, surface, untangle_options);
-    }
-    // Last, so that it can add no fold: a snap turns no face away from the input (snap.h). Made
-    // before the untangling instead, it changed what that left: mannequin-devil at ~4x 7 folded
-    // faces -> 11, cow at ~16x 3 -> 0.
-    if (snap) {
-      SnapOptions snapping;
-      snapping.fixed = fixed;
-      placed.snapped = snap_to_input(*placed.mesh, surface, snapping);
-    }
+    placed.snapped = finish_placement(*placed.mesh, surface, features.fixed, least_squares_rounds, snap);
     placed.count_folds(surface);
   };
 
@@ -363,6 +413,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   result.base_vertices = base.vertex_count();
   result.feature_edges = lines.edge_count();
   result.feature_vertices = features.count();
+  result.direct_levels = levels;
   result.flipped_triangles = placed.flipped;
   result.degenerate_triangles = placed.degenerate;
   result.snapped_to_vertices = placed.snapped.onto_vertices;
@@ -661,7 +712,57 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       result_db = again_db;
     }
   };
-  RemeshResult result = [&] {
+  // Deep hierarchies, level by level (RemeshOptions::level_by_level_from): the remesh of a level
+  // fewer, refined once more, where its base is this one's. With a density, whether the
+  // decimation stops above that level's target is seen from this level's base first, so that a
+  // larger input's remesh of a level fewer is not made for nothing.
+  std::optional<RemeshResult> deeper = [&]() -> std::optional<RemeshResult> {
+    const int coarser_levels = options.levels - 1;
+    if (options.level_by_level_from == 0 || options.levels < options.level_by_level_from || coarser_levels < 1)
+      return std::nullopt;
+    if (options.base_vertices == 0) {
+      const double density = options.density != 0 ? options.density : kAutoDensities[0];
+      std::size_t reached = 0;
+      if (options.density == 0) {
+        reached = auto_base(density, no_lines).base.vertex_count();
+      } else {
+        StageClock clock(stages);
+        DecimateOptions one = decimate_options(no_lines);
+        one.target_vertices = base_size(density);
+        reached = decimate(mesh, one).base.vertex_count();
+        clock.lap("decimate");
+      }
+      if (reached < base_for_density(mesh.vertex_count(), coarser_levels, density,
+                                     automatic_base_vertices(mesh, coarser_levels)))
+        return std::nullopt;
+    }
+    RemeshOptions coarser = options;
+    coarser.levels = coarser_levels;
+    coarser.method = RemeshMethod::decimate;
+    coarser.recognize = false;
+    coarser.snap = false;  // at the finest level only
+    coarser.progress = [&](double f) { report(0.75 * f); };
+    RemeshResult above = remesh(mesh, coarser);
+    stages.insert(stages.end(), above.stage_seconds.begin(), above.stage_seconds.end());
+    StageClock clock(stages);
+    if (above.input_refined) {  // the input's refinement one level deeper is exact too
+      std::optional<RemeshResult> exact = input_refinement(mesh, surface, options.levels);
+      if (exact) exact->density = above.density;
+      clock.lap("the input refined");
+      return exact;
+    }
+    // This level's base too: the size given, a decimation that stopped above its target (at its
+    // floor), or a target this level shares (the topology's floor, automatic_base_vertices()).
+    if (options.base_vertices == 0 && !(above.base_vertices > above.target_base_vertices) &&
+        base_size(above.density) != above.target_base_vertices)
+      return std::nullopt;
+    RemeshResult r = refined_once_more(above, surface, options.least_squares_rounds, options.snap,
+                                       [&](double f) { report(0.75 + 0.25 * f); });
+    r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(above.density);
+    clock.lap("refine once more");
+    return r;
+  }();
+  RemeshResult result = deeper ? std::move(*deeper) : [&] {
     if (options.base_vertices != 0 || options.density != 0) {
       // by_decimation() takes base_vertices first. With feature lines, the remesh with them and
       // the one without: the one that folds nowhere (but at the input's crossings), else the
@@ -834,7 +935,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       if (m.remesh && (!closest || m.psnr >= closest->psnr)) closest = &m;
     return std::move(*closest->remesh);
   }();
-  keep_missing_parts(result);
+  if (!deeper) keep_missing_parts(result);  // a deeper one's base kept them already
   // Where the automatic density made no remesh within auto_density_psnr of the input without a
   // fold (but at its crossings), a small input's own midpoint refinement is the closest remesh
   // there is: exact, at most RemeshOptions::input_refinement_vertices vertices, or 16 times as

@@ -131,6 +131,14 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  "fewer divides that by about 4\n",
                  path.c_str(), h.levels(), result.base_vertices, out / in, why);
   }
+  if (result.direct_levels > 0 && result.direct_levels + 1 == h.levels())
+    std::fprintf(stderr, "%s: level %d placed on the finished remesh of %d levels, which has the same base\n",
+                 path.c_str(), h.levels(), result.direct_levels);
+  else if (result.direct_levels > 0 && result.direct_levels < h.levels())
+    std::fprintf(stderr,
+                 "%s: levels %d to %d placed one at a time, each on the finished remesh of the levels below it, which "
+                 "has the same base\n",
+                 path.c_str(), result.direct_levels + 1, h.levels());
   if (result.kept_vertices > 0)
     std::fprintf(stderr,
                  "%s: missing parts: the base stopped above its size and the remesh parted from the input; %zu "

@@ -407,6 +407,7 @@ TEST_CASE("The automatic density remeshes once a base that every density's decim
   options.levels = 5;
   options.recognize = false;
   options.missing_part_rounds = 0;
+  options.level_by_level_from = 0;  // the automatic density's own choices at L = 5
   options.sparsest_density_psnr = 0;  // every 2x remesh with sparser bases is set aside
   DecimateOptions two;
   two.levels = options.levels;
@@ -533,6 +534,41 @@ TEST_CASE("Where the base stops above its size, parts the remesh missed are kept
   CHECK(reached.mesh.positions == remesh(elephant, three).mesh.positions);
 }
 
+TEST_CASE("A deep hierarchy over the base of a level fewer is that remesh refined once more", "[remesh][pipeline]") {
+  // Three levels over a 12-vertex base of the bumpy sphere, the third placed on the finished
+  // remesh of two (RemeshOptions::level_by_level_from = 3): the same base as placed directly,
+  // fold-free, and closer to the input than the remesh of two levels it was made from.
+  const TriangleMesh input = test::bumpy_sphere();
+  RemeshOptions options;
+  options.levels = 3;
+  options.recognize = false;
+  options.base_vertices = 12;
+  options.level_by_level_from = 3;
+  const RemeshResult deep = remesh(input, options);
+  CHECK(deep.direct_levels == 2);
+  CHECK(count(deep, "refine once more") == 1);
+  CHECK(deep.flipped_triangles + deep.degenerate_triangles == 0);
+  options.level_by_level_from = 0;
+  const RemeshResult direct = remesh(input, options);
+  CHECK(direct.direct_levels == 3);
+  CHECK(count(direct, "refine once more") == 0);
+  CHECK(deep.mesh.hierarchy.triangles(0) == direct.mesh.hierarchy.triangles(0));
+  CHECK(deep.mesh.hierarchy.triangles(3) == direct.mesh.hierarchy.triangles(3));
+  options.levels = 2;
+  const RemeshResult two = remesh(input, options);
+  const double deep_db = surface_distance(input, deep.mesh.finest()).psnr_db();
+  const double two_db = surface_distance(input, two.mesh.finest()).psnr_db();
+  INFO("three levels, level by level " << deep_db << " dB; two levels " << two_db << " dB");
+  CHECK(deep_db > two_db + 6);  // four times the vertices: about 12 dB where the error is O(h^2)
+  // A base of its own at each level: placed directly. The automatic density's 2x base at L = 3
+  // for this 2,562-vertex input is reached (80 vertices), below that of two levels (320).
+  RemeshOptions automatic;
+  automatic.levels = 3;
+  automatic.recognize = false;
+  automatic.level_by_level_from = 3;
+  CHECK(remesh(input, automatic).direct_levels == 3);
+}
+
 TEST_CASE("Where the base stops above its size, remesh faces far from the input bring their input vertices into the base", "[corpus][remesh][pipeline]") {
   // Turbine at L = 4: its floor base spans the gaps between blades, and the remesh fills them
   // with sheets far from the input (53.7 dB, 9 folded faces); the input vertices nearest those
@@ -540,14 +576,18 @@ TEST_CASE("Where the base stops above its size, remesh faces far from the input 
   // since the untangling's patches try relaxation on the input (UntangleOptions::
   // relaxation_steps; 81.1 dB with 16 kept and 2 folded faces before). The rounds go on past one
   // that is closer but folds more, not kept (a round not kept passes its vertices on).
+  // Asked for L = 5, the decimation stops at the same floor, and that L = 4 remesh is refined
+  // once more (RemeshOptions::level_by_level_from): 90.2 dB, no fold (placed from its own base
+  // instead: 56.6 dB, 79 folded faces).
   const TriangleMesh turbine = to_triangle_mesh(read_mesh(test::corpus_mesh_path("turbine")));
   RemeshOptions deep;
-  deep.levels = 4;
+  deep.levels = 5;
   const RemeshResult blades = remesh(turbine, deep);
-  INFO("turbine " << surface_distance(turbine, blades.mesh.finest()).psnr_db() << " dB, " << blades.flipped_triangles
-                  << " folds, " << blades.kept_vertices << " vertices kept");
+  const double db = surface_distance(turbine, blades.mesh.finest()).psnr_db();
+  INFO("turbine " << db << " dB, " << blades.flipped_triangles << " folds, " << blades.kept_vertices << " vertices kept");
+  CHECK(blades.direct_levels == 4);
   CHECK(blades.kept_vertices > 0);
-  CHECK(surface_distance(turbine, blades.mesh.finest()).psnr_db() >= 75);
+  CHECK(db >= 85);
   CHECK(blades.flipped_triangles == 0);
   CHECK(blades.degenerate_triangles == 0);
 }

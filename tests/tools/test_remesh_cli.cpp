@@ -172,6 +172,8 @@ TEST_CASE("remesh says when its levels make far more vertices than the density a
   CHECK_THAT(deep.output, Catch::Contains("note: 6 levels over a base of 8 vertices make 33x the input's vertices (the "
                                           "fewest the automatic base size takes for this mesh's topology); each level "
                                           "fewer divides that by about 4"));
+  // The remesh of 5 levels has that base too (RemeshOptions::level_by_level_from).
+  CHECK_THAT(deep.output, Catch::Contains("level 6 placed on the finished remesh of 5 levels, which has the same base"));
   const auto shallow = run_cli("remesh " + in.string() + " -o " + (dir / "shallow.ply").string() + " --levels 3");
   INFO(shallow.output);
   REQUIRE(shallow.exit_code == 0);

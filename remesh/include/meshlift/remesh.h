@@ -146,6 +146,16 @@ struct RemeshOptions {
   /// crossings (a failed remesh: up to 16,384 input vertices at L = 3). 0 turns it off. (Where the decimation keeps half the input's vertices or more
   /// although fewer were asked for, the refinement is taken whatever this is.)
   double input_refinement_vertices = 65'536;
+  /// Deep hierarchies, level by level: a remesh of this many levels or more whose base is the
+  /// one its remesh of a level fewer has (the base size given, or a decimation that stops at its
+  /// floor above both levels' targets: every deep remesh of a small input) is made as that remesh
+  /// refined once more. Its new vertices are shot onto the input from their butterfly predictions
+  /// while all the others hold, then the least-squares fit and the untangling run over all of
+  /// them, as for a remesh placed from its base. Placed from the base directly, the deep levels
+  /// part from the input where the base is far coarser than it (turbine at L = 5: 56.6 dB and 79
+  /// folded faces; from its L = 4 remesh: 90.2 dB, none; docs/RESULTS.md, "Deep hierarchies").
+  /// 0 turns it off; else >= 1.
+  int level_by_level_from = 4;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
   /// (the corpus's camel is one) leaves too coarse a base for the wavelets, so such a mesh is
@@ -180,6 +190,11 @@ struct RemeshResult {
   /// True when the base is the input itself and `mesh` its midpoint refinement, on the input
   /// exactly: a small input (RemeshOptions::input_refinement_vertices, remesh.h's header).
   bool input_refined = false;
+  /// Levels placed from the base directly; each level above them was placed on the finished
+  /// remesh of the level below (RemeshOptions::level_by_level_from). Equal to the hierarchy's
+  /// levels where none was; 0 when the input was taken over, refined as it is, or remeshed
+  /// through the sphere.
+  int direct_levels = 0;
   /// Input edges on feature lines, and vertices of the result placed on them (features.h).
   std::size_t feature_edges = 0, feature_vertices = 0;
   /// Triangles of the result whose normal points away (> 90°) from the normal of the input face
