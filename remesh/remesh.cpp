@@ -743,19 +743,20 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     coarser.snap = false;  // at the finest level only
     coarser.progress = [&](double f) { report(0.75 * f); };
     RemeshResult above = remesh(mesh, coarser);
+    // Not refined: the input refined as it is (its rules decide at this level too: one bounds the
+    // refinement's size, RemeshOptions::input_refinement_vertices), or a base this level does
+    // not share; this level's base is one of the size given, one at the decimation's floor
+    // (above its target), or a target this level shares (the topology's floor,
+    // automatic_base_vertices()). Its time is listed as one stage.
+    if (above.input_refined || (options.base_vertices == 0 && !(above.base_vertices > above.target_base_vertices) &&
+                                base_size(above.density) != above.target_base_vertices)) {
+      double seconds = 0;
+      for (const auto& stage : above.stage_seconds) seconds += stage.second;
+      stages.emplace_back("a level fewer, not refined", seconds);
+      return std::nullopt;
+    }
     stages.insert(stages.end(), above.stage_seconds.begin(), above.stage_seconds.end());
     StageClock clock(stages);
-    if (above.input_refined) {  // the input's refinement one level deeper is exact too
-      std::optional<RemeshResult> exact = input_refinement(mesh, surface, options.levels);
-      if (exact) exact->density = above.density;
-      clock.lap("the input refined");
-      return exact;
-    }
-    // This level's base too: the size given, a decimation that stopped above its target (at its
-    // floor), or a target this level shares (the topology's floor, automatic_base_vertices()).
-    if (options.base_vertices == 0 && !(above.base_vertices > above.target_base_vertices) &&
-        base_size(above.density) != above.target_base_vertices)
-      return std::nullopt;
     RemeshResult r = refined_once_more(above, surface, options.least_squares_rounds, options.snap,
                                        [&](double f) { report(0.75 + 0.25 * f); });
     r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(above.density);

@@ -3,7 +3,8 @@
 // interpolation (seed 000), refine L times and move the refined vertices onto the input surface.
 // Where the decimation keeps half the input's vertices or more although fewer were asked for (a
 // small input, at its topology's floor), the base is the input itself and the remesh its
-// midpoint refinement, exact (RemeshResult::input_refined).
+// midpoint refinement, exact (RemeshResult::input_refined). A deep hierarchy whose base is that
+// of a level fewer is placed a level at a time (RemeshOptions::level_by_level_from).
 #pragma once
 
 #include <cstddef>
@@ -224,7 +225,10 @@ struct RemeshResult {
   /// for all its densities, with the feature lines and one without: decimate_each), and "place,
   /// then give up" instead of the last two for a candidate given up (give_up_margin); then, per
   /// round of missing_part_rounds, "missing parts: decimate" and that remesh's stages; "sphere"
-  /// for a sphere remesh): where a remesh spends its time (docs/RESULTS.md).
+  /// for a sphere remesh; for one placed level by level (level_by_level_from), the stages of the
+  /// remesh of a level fewer, then "refine once more", and where that remesh was made but not
+  /// refined (another base), "a level fewer, not refined" first): where a remesh spends its time
+  /// (docs/RESULTS.md).
   std::vector<std::pair<std::string, double>> stage_seconds{};
 };
 
