@@ -165,18 +165,19 @@ SnapReport finish_placement(SemiRegularMesh& mesh, const SurfaceQuery& surface, 
 /// `coarse` holds its place (surface_fit.h, as place_refinement), then the placement finished as
 /// one from the base (finish_placement) over all vertices. Feature lines are not held at the new
 /// level: its vertices start on the butterfly prediction of the level below, which follows them.
-RemeshResult refined_once_more(const RemeshResult& coarse, const SurfaceQuery& surface, int least_squares_rounds, bool snap,
+RemeshResult refined_once_more(RemeshResult coarse, const SurfaceQuery& surface, int least_squares_rounds, bool snap,
                                const std::function<void(double)>& report) {
   const SemiRegularHierarchy& from = coarse.mesh.hierarchy;
   const int levels = from.levels() + 1;
-  const SemiRegularHierarchy h(TriangleTopology::build(from.vertex_count(0), from.triangles(0)), levels);
+  SemiRegularHierarchy h(TriangleTopology::build(from.vertex_count(0), from.triangles(0)), levels);
   // The hierarchies number their vertices alike up to from's finest level (level by level, a
   // level's new vertices in the order of the edges they split).
-  std::vector<double> guide = coarse.mesh.positions;
-  guide.resize(3 * std::size_t{h.vertex_count(levels)}, 0.0);  // the new level starts at butterfly's prediction
   std::vector<std::uint8_t> held(h.vertex_count(levels), 0);
   std::fill_n(held.begin(), from.vertex_count(from.levels()), std::uint8_t{1});
-  RemeshResult result{SemiRegularMesh{h, {}, {}}};
+  std::vector<double> guide = std::move(coarse.mesh.positions);
+  guide.resize(3 * std::size_t{h.vertex_count(levels)}, 0.0);  // the new level starts at butterfly's prediction
+  RemeshResult result = std::move(coarse);  // its base, density and counts; its mesh a level deeper
+  result.mesh = SemiRegularMesh{std::move(h), {}, {}};
   SurfaceFitOptions fit_options;
   fit_options.progress = [&](double f) { report(0.4 * f); };
   fit_options.fixed = held;
@@ -185,15 +186,9 @@ RemeshResult refined_once_more(const RemeshResult& coarse, const SurfaceQuery& s
   report(0.4);
   const SnapReport snapped = finish_placement(result.mesh, surface, {}, least_squares_rounds, snap);
   const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
-  result.density = coarse.density;
-  result.base_vertices = coarse.base_vertices;
-  result.target_base_vertices = coarse.target_base_vertices;
-  result.direct_levels = coarse.direct_levels;
-  result.feature_edges = coarse.feature_edges;
-  result.feature_vertices = coarse.feature_vertices;
-  result.kept_vertices = coarse.kept_vertices;
   result.flipped_triangles = folds.flipped.size();
   result.degenerate_triangles = folds.degenerate.size();
+  result.flipped_where_input_crosses = 0;  // counted again at the end (remesh())
   result.snapped_to_vertices = snapped.onto_vertices;
   result.snapped_to_creases = snapped.onto_creases;
   report(1);
@@ -449,13 +444,17 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
   if (std::isnan(options.give_up_margin)) throw MeshError("give_up_margin must be a number (infinity: never give up)");
   if (!(options.input_refinement_vertices >= 0)) throw MeshError("input_refinement_vertices must be >= 0");
+  if (options.level_by_level_from < 0) throw MeshError("level_by_level_from must be >= 0 (0: off)");
   if (options.density != 0 && !(options.density >= 1 && options.density <= 1024))
     throw MeshError("density must be 0 (automatic) or in [1, 1024], got " + std::to_string(options.density));
   if (options.levels < 0 || options.levels > kMaxLevels)
     throw MeshError("levels must be between 0 and " + std::to_string(kMaxLevels) + ", got " +
                     std::to_string(options.levels));
+  // Where report()'s [0, 1] starts: past the share of a remesh of a level fewer that was made
+  // and not refined (level_by_level_from), so that the fraction never goes back.
+  double progress_from = 0;
   auto report = [&](double fraction) {
-    if (options.progress) options.progress(fraction);
+    if (options.progress) options.progress(progress_from + (1 - progress_from) * fraction);
   };
   auto taken_over = [&](SemiRegularMesh recovered, std::size_t coincident_vertices) {
     RemeshResult result{std::move(recovered)};
@@ -741,7 +740,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     coarser.method = RemeshMethod::decimate;
     coarser.recognize = false;
     coarser.snap = false;  // at the finest level only
-    coarser.progress = [&](double f) { report(0.75 * f); };
+    coarser.progress = [&](double f) { report(0.5 * f); };
     RemeshResult above = remesh(mesh, coarser);
     // Not refined: the input refined as it is (its rules decide at this level too: one bounds the
     // refinement's size, RemeshOptions::input_refinement_vertices), or a base this level does
@@ -753,13 +752,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       double seconds = 0;
       for (const auto& stage : above.stage_seconds) seconds += stage.second;
       stages.emplace_back("a level fewer, not refined", seconds);
+      progress_from = 0.5;
       return std::nullopt;
     }
     stages.insert(stages.end(), above.stage_seconds.begin(), above.stage_seconds.end());
     StageClock clock(stages);
-    RemeshResult r = refined_once_more(above, surface, options.least_squares_rounds, options.snap,
-                                       [&](double f) { report(0.75 + 0.25 * f); });
-    r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(above.density);
+    RemeshResult r = refined_once_more(std::move(above), surface, options.least_squares_rounds, options.snap,
+                                       [&](double f) { report(0.5 + 0.5 * f); });
+    r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(r.density);
     clock.lap("refine once more");
     return r;
   }();

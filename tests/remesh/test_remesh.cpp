@@ -544,7 +544,13 @@ TEST_CASE("A deep hierarchy over the base of a level fewer is that remesh refine
   options.recognize = false;
   options.base_vertices = 12;
   options.level_by_level_from = 3;
+  std::vector<double> fractions;  // the progress reported: never back, up to 1
+  options.progress = [&](double f) { fractions.push_back(f); };
   const RemeshResult deep = remesh(input, options);
+  options.progress = nullptr;
+  CHECK(std::is_sorted(fractions.begin(), fractions.end()));
+  REQUIRE_FALSE(fractions.empty());
+  CHECK(fractions.back() == 1);
   CHECK(deep.direct_levels == 2);
   CHECK(count(deep, "refine once more") == 1);
   CHECK(deep.flipped_triangles + deep.degenerate_triangles == 0);
@@ -567,6 +573,8 @@ TEST_CASE("A deep hierarchy over the base of a level fewer is that remesh refine
   automatic.recognize = false;
   automatic.level_by_level_from = 3;
   CHECK(remesh(input, automatic).direct_levels == 3);
+  automatic.level_by_level_from = -1;
+  CHECK_THROWS_AS(remesh(input, automatic), MeshError);
 }
 
 TEST_CASE("Where the base stops above its size, remesh faces far from the input bring their input vertices into the base", "[corpus][remesh][pipeline]") {
