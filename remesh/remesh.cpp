@@ -163,9 +163,11 @@ SnapReport finish_placement(SemiRegularMesh& mesh, const SurfaceQuery& surface, 
 /// `coarse` one level deeper (RemeshOptions::level_by_level_from): its base refined once more,
 /// the new vertices shot onto the surface from their butterfly predictions while every vertex of
 /// `coarse` holds its place (surface_fit.h, as place_refinement), then the placement finished as
-/// one from the base (finish_placement) over all vertices. Feature lines are not held at the new
-/// level: its vertices start on the butterfly prediction of the level below, which follows them.
-RemeshResult refined_once_more(RemeshResult coarse, const SurfaceQuery& surface, int least_squares_rounds, bool snap,
+/// one from the base (finish_placement) over all vertices. Where `coarse` follows the feature
+/// lines `lines` of `input`, the vertices on them are placed on them at every level and held
+/// there (features.h), as remesh_by_decimation places them.
+RemeshResult refined_once_more(RemeshResult coarse, const TriangleMesh& input, const FeatureLines& lines,
+                               const SurfaceQuery& surface, int least_squares_rounds, bool snap,
                                const std::function<void(double)>& report) {
   const SemiRegularHierarchy& from = coarse.mesh.hierarchy;
   const int levels = from.levels() + 1;
@@ -176,16 +178,30 @@ RemeshResult refined_once_more(RemeshResult coarse, const SurfaceQuery& surface,
   std::fill_n(held.begin(), from.vertex_count(from.levels()), std::uint8_t{1});
   std::vector<double> guide = std::move(coarse.mesh.positions);
   guide.resize(3 * std::size_t{h.vertex_count(levels)}, 0.0);  // the new level starts at butterfly's prediction
+  FeaturePlacement features;
+  if (coarse.feature_edges > 0) {
+    TriangleMesh base{{}, h.triangles(0)};
+    for (const std::uint32_t v : coarse.base_input_vertex)
+      base.positions.insert(base.positions.end(), input.positions.begin() + 3 * std::ptrdiff_t{v},
+                            input.positions.begin() + 3 * std::ptrdiff_t{v} + 3);
+    features = place_on_features(h, input, base, base_feature_edges(lines, coarse.base_input_vertex));
+    for (std::uint32_t v = 0; v < features.fixed.size(); ++v)
+      if (features.fixed[v]) {
+        held[v] = 1;
+        std::copy_n(features.positions.begin() + 3 * std::ptrdiff_t{v}, 3, guide.begin() + 3 * std::ptrdiff_t{v});
+      }
+  }
   RemeshResult result = std::move(coarse);  // its base, density and counts; its mesh a level deeper
   result.mesh = SemiRegularMesh{std::move(h), {}, {}};
   SurfaceFitOptions fit_options;
   fit_options.progress = [&](double f) { report(0.4 * f); };
   fit_options.fixed = held;
   fit_to_surface(result.mesh, guide, surface, fit_options);
-  untangle_patches(result.mesh, surface, {});  // the coarser vertices free to move again
+  untangle_patches(result.mesh, surface, features.fixed);  // the coarser vertices free to move again
   report(0.4);
-  const SnapReport snapped = finish_placement(result.mesh, surface, {}, least_squares_rounds, snap);
+  const SnapReport snapped = finish_placement(result.mesh, surface, features.fixed, least_squares_rounds, snap);
   const FoldOvers folds = find_fold_overs(result.mesh.finest(), surface);
+  result.feature_vertices = features.count();
   result.flipped_triangles = folds.flipped.size();
   result.degenerate_triangles = folds.degenerate.size();
   result.flipped_where_input_crosses = 0;  // counted again at the end (remesh())
@@ -213,6 +229,7 @@ std::optional<RemeshResult> input_refinement(const TriangleMesh& mesh, const Sur
   const FoldOvers folds = find_fold_overs(exact.mesh.finest(), surface);
   if (!folds.flipped.empty() || !folds.degenerate.empty()) return std::nullopt;
   exact.base_vertices = input.base.vertex_count();
+  exact.base_input_vertex = input.original_vertex;
   exact.input_refined = true;
   return exact;
 }
@@ -409,6 +426,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   result.feature_edges = lines.edge_count();
   result.feature_vertices = features.count();
   result.direct_levels = levels;
+  result.base_input_vertex = decimated.original_vertex;
   result.flipped_triangles = placed.flipped;
   result.degenerate_triangles = placed.degenerate;
   result.snapped_to_vertices = placed.snapped.onto_vertices;
@@ -757,7 +775,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     }
     stages.insert(stages.end(), above.stage_seconds.begin(), above.stage_seconds.end());
     StageClock clock(stages);
-    RemeshResult r = refined_once_more(std::move(above), surface, options.least_squares_rounds, options.snap,
+    RemeshResult r = refined_once_more(std::move(above), mesh, lines, surface, options.least_squares_rounds, options.snap,
                                        [&](double f) { report(0.5 + 0.5 * f); });
     r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(r.density);
     clock.lap("refine once more");

@@ -256,18 +256,33 @@ TEST_CASE("Feature lines: a capped cylinder's rims are followed, far closer than
   CHECK(with.flipped_triangles + with.degenerate_triangles == 0);
   // The vertices on the lines lie on the rims' polygons: z = 0 or 1, between the chords'
   // midpoints and the corners in distance from the axis.
-  const std::vector<double>& x = with.mesh.positions;
-  std::size_t on_rims = 0;
-  for (std::size_t v = 0; v < x.size() / 3; ++v) {
-    const double r = std::hypot(x[3 * v], x[3 * v + 1]), z = x[3 * v + 2];
-    on_rims += (z == 0 || z == 1) && r >= std::cos(std::numbers::pi / around) - 1e-12 && r <= 1 + 1e-12;
-  }
+  auto on_rims = [&](const std::vector<double>& x) {
+    std::size_t count = 0;
+    for (std::size_t v = 0; v < x.size() / 3; ++v) {
+      const double r = std::hypot(x[3 * v], x[3 * v + 1]), z = x[3 * v + 2];
+      count += (z == 0 || z == 1) && r >= std::cos(std::numbers::pi / around) - 1e-12 && r <= 1 + 1e-12;
+    }
+    return count;
+  };
   CHECK(with.feature_vertices > 0);
-  CHECK(on_rims >= with.feature_vertices);
+  CHECK(on_rims(with.mesh.positions) >= with.feature_vertices);
   const double with_db = surface_distance(m, with.mesh.finest()).psnr_db();
   const double without_db = surface_distance(m, without.mesh.finest()).psnr_db();
   INFO("PSNR with feature lines " << with_db << " dB, without " << without_db << " dB");
   CHECK(with_db > without_db + 10);
+  // The second level placed on the finished remesh of one over the same base
+  // (RemeshOptions::level_by_level_from): its vertices on the base's feature edges are placed on
+  // the rims too, as many as placed from the base, and held there.
+  options.feature_angle = 60;
+  options.base_vertices = with.base_vertices;
+  options.level_by_level_from = 2;
+  const RemeshResult deep = remesh(m, options);
+  CHECK(deep.direct_levels == 1);
+  CHECK(deep.feature_edges == 2 * around);
+  CHECK(deep.feature_vertices == with.feature_vertices);
+  CHECK(deep.flipped_triangles + deep.degenerate_triangles == 0);
+  CHECK(on_rims(deep.mesh.positions) >= deep.feature_vertices);
+  CHECK(surface_distance(m, deep.mesh.finest()).psnr_db() > without_db + 10);
 }
 
 TEST_CASE("Feature lines with the automatic density: fandisk follows its creases at 1x, turbine goes on without", "[corpus][remesh][features][pipeline]") {

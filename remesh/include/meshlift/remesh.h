@@ -154,7 +154,7 @@ struct RemeshOptions {
   /// while all the others hold, then the least-squares fit and the untangling run over all of
   /// them, as for a remesh placed from its base. Placed from the base directly, the deep levels
   /// part from the input where the base is far coarser than it (turbine at L = 5: 56.6 dB and 79
-  /// folded faces; from its L = 4 remesh: 90.2 dB, none; docs/RESULTS.md, "Deep hierarchies").
+  /// folded faces; from its L = 4 remesh: 89.2 dB, none; docs/RESULTS.md, "Deep hierarchies").
   /// 0 turns it off; else >= 1.
   int level_by_level_from = 4;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
@@ -196,6 +196,10 @@ struct RemeshResult {
   /// levels where none was; 0 when the input was taken over, refined as it is, or remeshed
   /// through the sphere.
   int direct_levels = 0;
+  /// For each base vertex, the input vertex it is (the decimation keeps a subset of the input's
+  /// vertices, DecimateResult::original_vertex); empty where the input was taken over or remeshed
+  /// through the sphere.
+  std::vector<std::uint32_t> base_input_vertex{};
   /// Input edges on feature lines, and vertices of the result placed on them (features.h).
   std::size_t feature_edges = 0, feature_vertices = 0;
   /// Triangles of the result whose normal points away (> 90°) from the normal of the input face
