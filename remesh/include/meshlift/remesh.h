@@ -150,14 +150,14 @@ struct RemeshOptions {
   /// Deep hierarchies, level by level: a remesh of this many levels or more whose base is the
   /// one its remesh of a level fewer has (the base size given, or a decimation that stops at its
   /// floor above both levels' targets: with the automatic density, above the ~4x target of a
-  /// level fewer, and that remesh keeps it) is made as that remesh refined once more. Vertices on
-  /// feature lines are placed and held on them at the new level too. Its new vertices are shot onto the input from their butterfly predictions
-  /// while all the others hold, then the least-squares fit and the untangling run over all of
-  /// them, as for a remesh placed from its base. Placed from the base directly, the deep levels
-  /// part from the input where the base is far coarser than it (turbine at L = 5: 56.6 dB and 79
-  /// folded faces; from its L = 4 remesh: 89.2 dB, none; docs/RESULTS.md, "Deep hierarchies a
-  /// level at a time").
-  /// 0 turns it off; else >= 1.
+  /// level fewer, and that remesh keeps it) is made as that remesh refined once more. Its new
+  /// vertices are shot onto the input from their butterfly predictions while all the others
+  /// hold, then the least-squares fit and the untangling run over all of them, as for a remesh
+  /// placed from its base; vertices on feature lines are placed and held on them at the new level
+  /// too. Placed from the base directly, the deep levels part from the input where the base is
+  /// far coarser than it (turbine at L = 5: 56.6 dB and 79 folded faces; from its L = 4 remesh:
+  /// 89.2 dB, none; docs/RESULTS.md, "Deep hierarchies a level at a time"). 0 turns it off; else
+  /// >= 1.
   int level_by_level_from = 4;
   /// Accept an input that already has subdivision connectivity as it is (its hierarchy is
   /// recovered, nothing is moved) when it has at least min(levels, 2) levels: a single 1:4 split
