@@ -95,6 +95,13 @@ double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, s
   return remesh_psnr(input, remeshed.finest(), samples);
 }
 
+/// Puts the vertices of `guide` (xyz per vertex of the finest level) that `features` places on
+/// the feature lines at their places there (features.h).
+void hold_on_features(const FeaturePlacement& features, std::span<double> guide) {
+  for (std::size_t v = 0; v < features.fixed.size(); ++v)
+    if (features.fixed[v]) std::copy_n(features.positions.begin() + 3 * std::ptrdiff_t(v), 3, guide.begin() + 3 * std::ptrdiff_t(v));
+}
+
 /// The untangling right after a placement: patches only, and no relaxation: the least-squares
 /// rounds move every vertex again, and per-vertex moves made before them shifted their result
 /// for no fewer folds after (camel -0.3 dB); a patch relaxed there cost cow's 8x remesh 1.7 dB
@@ -185,11 +192,8 @@ RemeshResult refined_once_more(RemeshResult coarse, const TriangleMesh& input, c
       base.positions.insert(base.positions.end(), input.positions.begin() + 3 * std::ptrdiff_t{v},
                             input.positions.begin() + 3 * std::ptrdiff_t{v} + 3);
     features = place_on_features(h, input, base, base_feature_edges(lines, coarse.base_input_vertex));
-    for (std::uint32_t v = 0; v < features.fixed.size(); ++v)
-      if (features.fixed[v]) {
-        held[v] = 1;
-        std::copy_n(features.positions.begin() + 3 * std::ptrdiff_t{v}, 3, guide.begin() + 3 * std::ptrdiff_t{v});
-      }
+    hold_on_features(features, guide);
+    for (std::size_t v = 0; v < features.fixed.size(); ++v) held[v] |= features.fixed[v];
   }
   RemeshResult result = std::move(coarse);  // its base, density and counts; its mesh a level deeper
   result.mesh = SemiRegularMesh{std::move(h), {}, {}};
@@ -297,11 +301,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   std::vector<std::vector<double>> guides{limit_surface(control)};
   // The vertices on feature lines have their places already (features.h): every guide holds them.
   const FeaturePlacement features = place_on_features(h, mesh, base, base_feature_edges(lines, decimated.original_vertex));
-  auto hold_features = [&](std::vector<double>& guide) {
-    for (std::uint32_t v = 0; v < features.fixed.size(); ++v)
-      if (features.fixed[v]) std::copy_n(features.positions.begin() + 3 * std::ptrdiff_t{v}, 3, guide.begin() + 3 * std::ptrdiff_t{v});
-  };
-  hold_features(guides[0]);
+  hold_on_features(features, guides[0]);
   if (fit == BaseFit::loop) {
     // Second guide: where the unfitted limit surface is closer to the input than the fitted one
     // (the fitted control mesh overshoots around thin parts: camel's head, turbine's blades),
@@ -318,7 +318,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
       if (surface.closest(unfitted).distance < surface.closest(fitted).distance)
         std::copy_n(plain.begin() + 3 * std::ptrdiff_t{v}, 3, mixed.begin() + 3 * std::ptrdiff_t{v});
     }
-    hold_features(mixed);
+    hold_on_features(features, mixed);
     if (mixed != guides[0]) guides.push_back(std::move(mixed));
   }
   if (set_aside_guide_at < kNowhere)
