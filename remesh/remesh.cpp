@@ -618,13 +618,19 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (r) r->density = options.base_vertices != 0 ? 0 : density;
     return r;
   };
-  auto by_decimation = [&](double density, double from, double to, const FeatureLines& with) {
-    StageClock clock(stages);
-    DecimateOptions one = decimate_options(with);
-    one.target_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(density);
-    const DecimateResult decimated = decimate(mesh, one);
-    clock.lap("decimate");
-    return std::move(*remesh_base(decimated, density, from, to, with));
+  // An explicit density's base without the feature lines where the check of
+  // level_by_level_from below decimated it already: by_decimation() takes it from there.
+  std::optional<DecimateResult> plain_base;
+  auto by_decimation = [&](double from, double to, const FeatureLines& with) {
+    std::optional<DecimateResult> decimated;
+    if (&with != &no_lines || !plain_base) {
+      StageClock clock(stages);
+      DecimateOptions one = decimate_options(with);
+      one.target_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(options.density);
+      decimated = decimate(mesh, one);
+      clock.lap("decimate");
+    }
+    return std::move(*remesh_base(decimated ? *decimated : *plain_base, options.density, from, to, with));
   };
   // Errors measured on kChoiceSamples a side.
   auto psnr = [&](const RemeshResult& r) {
@@ -751,7 +757,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
         StageClock clock(stages);
         DecimateOptions one = decimate_options(no_lines);
         one.target_vertices = base_size(options.density);
-        reached = decimate(mesh, one).base.vertex_count();
+        reached = plain_base.emplace(decimate(mesh, one)).base.vertex_count();
         clock.lap("decimate");
       }
       const double asked = options.density != 0 ? options.density : kAutoDensities[2];
@@ -793,9 +799,9 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       // the one without: the one that folds nowhere (but at the input's crossings), else the
       // closer (turbine at 4x: 80.1 dB with its lines, 81.9 without; at 16x 78.7 dB and 7
       // folds with them, 86.0 and 10 without; fandisk at 4x 85.1 with, 77.7 without).
-      RemeshResult plain = by_decimation(options.density, 0, lines.empty() ? 1 : 0.5, no_lines);
+      RemeshResult plain = by_decimation(0, lines.empty() ? 1 : 0.5, no_lines);
       if (lines.empty()) return plain;
-      RemeshResult lined = by_decimation(options.density, 0.5, 1, lines);
+      RemeshResult lined = by_decimation(0.5, 1, lines);
       const bool lined_fold_free = fold_free(lined), plain_fold_free = fold_free(plain);
       if (lined_fold_free != plain_fold_free) return lined_fold_free ? std::move(lined) : std::move(plain);
       return psnr(lined) >= psnr(plain) ? std::move(lined) : std::move(plain);
