@@ -772,13 +772,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     coarser.snap = false;  // at the finest level only
     coarser.progress = [&](double f) { report(0.5 * f); };
     RemeshResult above = remesh(mesh, coarser);
-    // Not refined: the input refined as it is (its rules decide at this level too: one bounds the
-    // refinement's size, RemeshOptions::input_refinement_vertices), or a base this level does
-    // not share; this level's base is one of the size given, one at the decimation's floor
-    // (above its target), or a target this level shares (the topology's floor,
-    // automatic_base_vertices()). Its time is listed as one stage.
-    if (above.input_refined || (options.base_vertices == 0 && !(above.base_vertices > above.target_base_vertices) &&
-                                base_size(above.density) != above.target_base_vertices)) {
+    // This level's base too: the size given, one at the decimation's floor (above its target),
+    // or a target this level shares (the topology's floor, automatic_base_vertices()).
+    const bool same_base = options.base_vertices != 0 || above.base_vertices > above.target_base_vertices ||
+                           base_size(above.density) == above.target_base_vertices;
+    // Not refined: a base this level does not share, or the input refined as it is (its rules
+    // decide at this level too: one bounds the refinement's size,
+    // RemeshOptions::input_refinement_vertices). Its time is listed as one stage.
+    if (above.input_refined || !same_base) {
       double seconds = 0;
       for (const auto& stage : above.stage_seconds) seconds += stage.second;
       stages.emplace_back("a level fewer, not refined", seconds);
