@@ -577,6 +577,32 @@ TEST_CASE("A deep hierarchy over the base of a level fewer is that remesh refine
   CHECK_THROWS_AS(remesh(input, automatic), MeshError);
 }
 
+TEST_CASE("A deep hierarchy at an explicit density, or over an input refined as it is", "[remesh][pipeline]") {
+  // --density 1 at L = 6 over the 2,562-vertex sphere: the decimation stops at its floor (8
+  // vertices), which is also the base of 5 levels at that density, and of 4 levels not (11):
+  // levels 1-5 placed from the base, the sixth on their remesh. The base is decimated once at
+  // each level, for its check (at L = 5 the remesh then takes that base, not a second one).
+  const TriangleMesh input = test::bumpy_sphere();
+  RemeshOptions options;
+  options.levels = 6;
+  options.recognize = false;
+  options.density = 1;
+  const RemeshResult deep = remesh(input, options);
+  CHECK(deep.direct_levels == 5);
+  CHECK(deep.base_vertices == 8);
+  CHECK(count(deep, "decimate") == 2);
+  CHECK(count(deep, "refine once more") == 1);
+  CHECK(deep.flipped_triangles + deep.degenerate_triangles == 0);
+  // The icosahedron at L = 4: its remesh of 3 levels is the input refined (its decimation keeps
+  // 8 of its 12 vertices), not refined once more but made again at L = 4 by the same rule, its
+  // time listed as one stage.
+  RemeshOptions four = small_input_options();
+  four.levels = 4;
+  const RemeshResult exact = remesh_refined(test::icosahedron(), four);
+  CHECK(count(exact, "a level fewer, not refined") == 1);
+  CHECK(exact.direct_levels == 0);
+}
+
 TEST_CASE("Where the base stops above its size, remesh faces far from the input bring their input vertices into the base", "[corpus][remesh][pipeline]") {
   // Turbine at L = 4: its floor base spans the gaps between blades, and the remesh fills them
   // with sheets far from the input (53.7 dB, 9 folded faces); the input vertices nearest those
