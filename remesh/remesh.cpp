@@ -739,8 +739,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   // fewer, refined once more, where its base is this one's. With a density, whether the
   // decimation stops above that level's target is seen from this level's base first, so that a
   // larger input's remesh of a level fewer is not made for nothing.
+  // Made over this level's base at an explicit density (below), a refinement that folds away
+  // from the input's crossings is set against the remesh placed from the base: its share of the
+  // progress is then the first half.
+  bool over_floor_base = false;
+  double deeper_share = 1;
   std::optional<RemeshResult> deeper = [&]() -> std::optional<RemeshResult> {
     const int coarser_levels = options.levels - 1;
+    std::size_t coarser_base_size = options.base_vertices;  // the base size a level fewer is given
     if (options.level_by_level_from == 0 || options.levels < options.level_by_level_from || coarser_levels < 1)
       return std::nullopt;
     if (options.base_vertices == 0) {
@@ -762,19 +768,31 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
       }
       const double asked = options.density != 0 ? options.density : kAutoDensities[2];
       if (reached < base_for_density(mesh.vertex_count(), coarser_levels, asked,
-                                     automatic_base_vertices(mesh, coarser_levels)))
-        return std::nullopt;
+                                     automatic_base_vertices(mesh, coarser_levels))) {
+        // An explicit density whose decimation stops at its floor, above this level's target
+        // but below a level fewer's: the remesh of a level fewer given this level's target as
+        // its base size (so it stops at the same floor, and its missing-parts step runs), not
+        // the one at the density asked for. Placed from that floor directly, turbine at
+        // --density 16, L = 5 gave 80.3 dB with 14 folded faces (docs/RESULTS.md, "Explicit
+        // densities a level at a time").
+        if (options.density == 0 || reached <= base_size(options.density)) return std::nullopt;
+        coarser_base_size = base_size(options.density);
+        over_floor_base = true;
+        deeper_share = 0.5;
+      }
     }
     RemeshOptions coarser = options;
     coarser.levels = coarser_levels;
+    coarser.base_vertices = coarser_base_size;
     coarser.method = RemeshMethod::decimate;
     coarser.recognize = false;
     coarser.snap = false;  // at the finest level only
-    coarser.progress = [&](double f) { report(0.5 * f); };
+    coarser.progress = [&](double f) { report(deeper_share * 0.5 * f); };
     RemeshResult above = remesh(mesh, coarser);
+    if (over_floor_base) above.density = options.density;  // not 0 (a size given)
     // This level's base too: the size given, one at the decimation's floor (above its target),
     // or a target this level shares (the topology's floor, automatic_base_vertices()).
-    const bool same_base = options.base_vertices != 0 || above.base_vertices > above.target_base_vertices ||
+    const bool same_base = coarser_base_size != 0 || above.base_vertices > above.target_base_vertices ||
                            base_size(above.density) == above.target_base_vertices;
     // Not refined: a base this level does not share, or the input refined as it is (its rules
     // decide at this level too: one bounds the refinement's size,
@@ -789,12 +807,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     stages.insert(stages.end(), above.stage_seconds.begin(), above.stage_seconds.end());
     StageClock clock(stages);
     RemeshResult r = refined_once_more(std::move(above), mesh, lines, surface, options.least_squares_rounds, options.snap,
-                                       [&](double f) { report(0.5 + 0.5 * f); });
+                                       [&](double f) { report(deeper_share * (0.5 + 0.5 * f)); });
     r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(r.density);
     clock.lap("refine once more");
     return r;
   }();
-  RemeshResult result = deeper ? std::move(*deeper) : [&] {
+  auto placed_from_base = [&]() -> RemeshResult {
     if (options.base_vertices != 0 || options.density != 0) {
       // by_decimation() takes base_vertices first. With feature lines, the remesh with them and
       // the one without: the one that folds nowhere (but at the input's crossings), else the
@@ -966,8 +984,29 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     for (Made& m : made)
       if (m.remesh && (!closest || m.psnr >= closest->psnr)) closest = &m;
     return std::move(*closest->remesh);
-  }();
-  if (!deeper) keep_missing_parts(result);  // a deeper one's base kept them already
+  };
+  auto from_base = [&] {
+    RemeshResult r = placed_from_base();
+    keep_missing_parts(r);  // a deeper one's base kept them already
+    return r;
+  };
+  RemeshResult result = deeper ? std::move(*deeper) : from_base();
+  if (deeper && over_floor_base && !fold_free(result)) {
+    // Refined a level at a time, fandisk at --density 4, L = 5 folds 6 faces (87.2 dB); placed
+    // from its base none (74.1 dB). Kept: the one that folds fewer faces away from the input's
+    // crossings, else the closer (docs/RESULTS.md, "Explicit densities a level at a time").
+    progress_from = deeper_share;
+    RemeshResult direct = from_base();
+    auto folds_away = [&](RemeshResult& r) {
+      fold_free(r);  // counts those at the crossings
+      return r.flipped_triangles - r.flipped_where_input_crosses + r.degenerate_triangles;
+    };
+    const std::size_t refined_folds = folds_away(result), direct_folds = folds_away(direct);
+    if (direct_folds < refined_folds || (direct_folds == refined_folds && psnr(direct) > psnr(result))) {
+      result = std::move(direct);
+      result.set_aside_refinement_folds = refined_folds;
+    }
+  }
   // Where the automatic density made no remesh within auto_density_psnr of the input without a
   // fold (but at its crossings), a small input's own midpoint refinement is the closest remesh
   // there is: exact, at most RemeshOptions::input_refinement_vertices vertices, or 16 times as

@@ -139,6 +139,11 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  "%s: levels %d to %d placed one at a time, each on the finished remesh of the levels below it, which "
                  "has the same base\n",
                  path.c_str(), result.direct_levels + 1, h.levels());
+  if (result.set_aside_refinement_folds > 0)
+    std::fprintf(stderr,
+                 "%s: placed from the base: placed a level at a time, the remesh folded %zu faces away from the "
+                 "input's crossings\n",
+                 path.c_str(), result.set_aside_refinement_folds);
   if (result.kept_vertices > 0)
     std::fprintf(stderr,
                  "%s: missing parts: the base stopped above its size and the remesh parted from the input; %zu "

@@ -603,6 +603,56 @@ TEST_CASE("A deep hierarchy at an explicit density, or over an input refined as 
   CHECK(exact.direct_levels == 0);
 }
 
+TEST_CASE("An explicit density whose decimation stops at its floor refines a remesh of a level fewer over that base", "[remesh][pipeline]") {
+  // A 45 x 11 torus (495 vertices) at --density 4, L = 4: the decimation stops at 19 vertices,
+  // above the 14 this level asks for (the topology's floor) and below the 31 that 4x of 3 levels
+  // would. The remesh of 3 levels is made with this level's base size, so its missing-parts step
+  // runs there, and then refined once more. Placed from the floor base directly it is farther
+  // from the input.
+  const TriangleMesh input = test::torus(45, 11);
+  RemeshOptions options;
+  options.levels = 4;
+  options.density = 4;
+  std::vector<double> fractions;
+  options.progress = [&](double f) { fractions.push_back(f); };
+  const RemeshResult deep = remesh(input, options);
+  options.progress = nullptr;
+  CHECK(std::is_sorted(fractions.begin(), fractions.end()));
+  REQUIRE_FALSE(fractions.empty());
+  CHECK(fractions.back() == 1);
+  CHECK(deep.direct_levels == 3);
+  CHECK(count(deep, "refine once more") == 1);
+  CHECK(deep.density == 4);
+  CHECK(deep.target_base_vertices == 14);
+  CHECK(deep.kept_vertices > 0);
+  CHECK(deep.base_vertices > 19);
+  CHECK(deep.flipped_triangles + deep.degenerate_triangles == 0);
+  options.level_by_level_from = 0;
+  const RemeshResult direct = remesh(input, options);
+  CHECK(direct.direct_levels == 4);
+  const double deep_db = surface_distance(input, deep.mesh.finest()).psnr_db();
+  const double direct_db = surface_distance(input, direct.mesh.finest()).psnr_db();
+  INFO("over the floor base, a level at a time " << deep_db << " dB; placed from it " << direct_db << " dB");
+  CHECK(deep_db > direct_db);
+}
+
+TEST_CASE("At an explicit density, a refinement over the floor base that folds is set aside for the remesh placed from the base", "[corpus][remesh][pipeline]") {
+  // Fandisk at --density 4, L = 5: its decimation stops at 53 vertices, above the 26 asked for
+  // and below the 102 of 4x at L = 4. Made a level at a time over that base (feature lines
+  // followed), the remesh folds 6 faces at 87.2 dB; placed from the base, none at 74.1 dB.
+  const TriangleMesh fandisk = to_triangle_mesh(read_mesh(test::corpus_mesh_path("fandisk")));
+  RemeshOptions options;
+  options.levels = 5;
+  options.density = 4;
+  const RemeshResult r = remesh(fandisk, options);
+  INFO(r.set_aside_refinement_folds << " folds set aside");
+  CHECK(r.set_aside_refinement_folds > 0);
+  CHECK(count(r, "refine once more") > 0);
+  CHECK(r.direct_levels == 5);
+  CHECK(r.flipped_triangles + r.degenerate_triangles == 0);
+  CHECK(surface_distance(fandisk, r.mesh.finest()).psnr_db() > 70);
+}
+
 TEST_CASE("Where the base stops above its size, remesh faces far from the input bring their input vertices into the base", "[corpus][remesh][pipeline]") {
   // Turbine at L = 4: its floor base spans the gaps between blades, and the remesh fills them
   // with sheets far from the input (53.7 dB, 9 folded faces); the input vertices nearest those

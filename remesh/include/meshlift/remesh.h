@@ -198,6 +198,11 @@ struct RemeshResult {
   /// levels where none was; 0 when the input was taken over, refined as it is, or remeshed
   /// through the sphere.
   int direct_levels = 0;
+  /// Where a remesh a level at a time over an explicit density's floor base folded faces away
+  /// from the input's crossings (RemeshOptions::level_by_level_from), how many; the remesh
+  /// placed from the base was then made too and kept if it folds fewer there (or as few, and is
+  /// closer). 0 where none was set aside.
+  std::size_t set_aside_refinement_folds = 0;
   /// For each base vertex, the input vertex it is (the decimation keeps a subset of the input's
   /// vertices, DecimateResult::original_vertex); empty where the input was taken over or remeshed
   /// through the sphere.
