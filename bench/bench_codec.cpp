@@ -158,11 +158,13 @@ int main(int argc, char** argv) {
     output_hashes += line;
   };
   std::uint64_t cold_hashes[2] = {};
-  // Decodes the first `budget` bytes of `stream` `runs` times; prints the best time as "decode N bpv<label>".
+  // Decodes the first `budget` bytes of `stream` `runs` times on `threads` threads (DecodeOptions);
+  // prints the best time as "decode N bpv<label>".
   auto timed_decode = [&](const std::vector<std::uint8_t>& stream, std::size_t budget, const std::string& label,
-                          DecodeResult& r) {
+                          DecodeResult& r, unsigned threads = 1) {
     DecodeOptions o;
     o.max_bytes = budget;
+    o.threads = threads;
     const Timing t = best_of(runs, [&] { r = decode(stream, o); });
     const std::string what = "decode " + std::to_string(8.0 * r.bytes_used / V).substr(0, 4) + " bpv" + label;
     print_timing(what.c_str(), t, V, "bit plane " + std::to_string(r.bit_plane));
@@ -175,12 +177,21 @@ int main(int argc, char** argv) {
     cold_hashes[budget == file.size()] = output_hash(r);
     add_hash(what, cold_hashes[budget == file.size()]);
   }
+  // The same on two threads (DecodeOptions::threads; the default, 0, takes two on this machine):
+  // the output's faces made while the coefficients are decoded, each level's synthesis split.
+  for (std::size_t budget : {two_bpv, file.size()}) {
+    DecodeResult r;
+    const Timing t = timed_decode(file, budget, ", 2 threads", r, 2).first;
+    (void)t;
+    if (output_hash(r) != cold_hashes[budget == file.size()]) std::printf("  2 THREADS: OUTPUT DIFFERS\n");
+  }
   // The same decodes into one result kept across calls (decode_into): its output arrays reused,
   // as by a viewer that asks for the mesh again and again; the figures above are a fresh
   // process's (every output page faulted in), these what each later call pays.
   for (std::size_t budget : {two_bpv, file.size()}) {
     DecodeOptions o;
     o.max_bytes = budget;
+    o.threads = 1;
     DecodeResult r;
     decode_into(file, o, r);  // the first call, which allocates
     const Timing t = best_of(runs, [&] { decode_into(file, o, r); });
@@ -196,24 +207,35 @@ int main(int argc, char** argv) {
     constexpr std::size_t kPieces = 16;
     const std::size_t piece = (file.size() + kPieces - 1) / kPieces;
     DecodeResult streamed, again;
-    const Timing stream_time = best_of(runs, [&] {
-      Decoder decoder;
-      for (std::size_t at = 0; at < file.size(); at += piece) {
-        decoder.push(std::span(file).subspan(at, std::min(piece, file.size() - at)));
-        decoder.mesh(streamed);
-      }
-    });
+    // The Decoder's own thread decodes the bytes as they come in both; mesh() runs on the
+    // caller's thread alone (threads = 1) or beside a second (threads = 2).
+    auto stream_time = [&](unsigned threads) {
+      DecodeOptions o;
+      o.threads = threads;
+      return best_of(runs, [&] {
+        Decoder decoder(o);
+        for (std::size_t at = 0; at < file.size(); at += piece) {
+          decoder.push(std::span(file).subspan(at, std::min(piece, file.size() - at)));
+          decoder.mesh(streamed);
+        }
+      });
+    };
+    const Timing one_thread = stream_time(1);
+    const bool streamed_same = output_hash(streamed) == cold_hashes[1];
+    const Timing two_threads = stream_time(2);
     const Timing again_time = best_of(runs, [&] {
       for (std::size_t at = 0; at < file.size(); at += piece) {
         DecodeOptions o;
         o.max_bytes = std::min(at + piece, file.size());
+        o.threads = 1;
         decode_into(file, o, again);
       }
     });
-    const bool same = output_hash(streamed) == cold_hashes[1] && output_hash(again) == cold_hashes[1];
-    print_timing("stream, 16 meshes", stream_time, V * kPieces,
+    const bool same = streamed_same && output_hash(streamed) == cold_hashes[1] && output_hash(again) == cold_hashes[1];
+    print_timing("stream, 16 meshes", one_thread, V * kPieces,
                  same ? "(Decoder::mesh after each 16th of the file; the whole file's output at the end)"
                       : "(OUTPUT DIFFERS from the whole file's)");
+    print_timing("stream, 2 threads", two_threads, V * kPieces, "(the same, mesh() on two threads)");
     print_timing("16 prefixes again", again_time, V * kPieces, "(decode_into of the same 16 prefixes)");
   }
   {
@@ -223,8 +245,12 @@ int main(int argc, char** argv) {
     EncodeOptions butterfly;
     butterfly.scheme = Scheme::butterfly;
     DecodeResult r;
-    const std::string what = timed_decode(encode(mesh, butterfly), two_bpv, ", butterfly", r).second;
-    add_hash(what, output_hash(r));  // after the decode (arguments are evaluated in no set order)
+    const std::vector<std::uint8_t> stream = encode(mesh, butterfly);
+    const std::string what = timed_decode(stream, two_bpv, ", butterfly", r).second;
+    const std::uint64_t hash = output_hash(r);
+    add_hash(what, hash);  // after the decode (arguments are evaluated in no set order)
+    timed_decode(stream, two_bpv, ", butterfly, 2 threads", r, 2);
+    if (output_hash(r) != hash) std::printf("  2 THREADS: OUTPUT DIFFERS\n");
   }
   std::printf("decoded output (positions and faces, FNV-1a):\n%s", output_hashes.c_str());
   {
@@ -347,13 +373,15 @@ int main(int argc, char** argv) {
   h.reset();
   transform.reset();
   values = {};
-  for (std::size_t budget : {two_bpv, file.size()}) {
-    DecodeOptions o;
-    o.max_bytes = budget;
-    const double peak = peak_bytes_added([&] { const DecodeResult r = decode(file, o); });
-    std::printf("  decode of %.2f bpv: peak %.0f MiB above the bench's own data, %.0f bytes per output vertex\n",
-                8.0 * std::min(budget, file.size()) / V, peak / (1 << 20), peak / V);
-  }
+  for (const unsigned threads : {1u, 2u})
+    for (std::size_t budget : {two_bpv, file.size()}) {
+      DecodeOptions o;
+      o.max_bytes = budget;
+      o.threads = threads;
+      const double peak = peak_bytes_added([&] { const DecodeResult r = decode(file, o); });
+      std::printf("  decode of %.2f bpv, %u thread%s: peak %.0f MiB above the bench's own data, %.0f bytes per output vertex\n",
+                  8.0 * std::min(budget, file.size()) / V, threads, threads > 1 ? "s" : "", peak / (1 << 20), peak / V);
+    }
   const double hierarchy_peak =
       peak_bytes_added([&] { const SemiRegularHierarchy alone(mesh.hierarchy.topology(0), levels); });
   const SemiRegularHierarchy hierarchy(mesh.hierarchy.topology(0), levels);

@@ -14,6 +14,7 @@
 
 #include "base_mesh_coder.h"
 #include "base_values.h"
+#include "concurrent.h"
 #include "large_array.h"
 #include "local_frames.h"
 #include "meshlift/codec.h"
@@ -193,9 +194,30 @@ DecodeResult corrupt_base_part() {
                                   "invalid integer code");
 }
 
+/// The level a decode synthesizes to (DecodeOptions::max_level, at most the stream's).
+int output_level(const DecodeOptions& options, int levels) {
+  return options.max_level < 0 ? levels : std::min(options.max_level, levels);
+}
+
+/// Whether a decode whose output has `vertices` vertices runs on two threads (DecodeOptions::threads).
+bool concurrent_decode(const DecodeOptions& options, std::uint32_t vertices) {
+  return options.threads == 0
+             ? std::thread::hardware_concurrency() > 1 && vertices >= DecodeOptions::kConcurrentDecodeVertices
+             : options.threads > 1;
+}
+
+/// The faces of `level`, for a decode that makes them on a second thread while the first decodes
+/// the coefficients (into `storage`'s array where a caller lent one).
+std::vector<std::uint32_t> output_faces(const SemiRegularHierarchy& h, int level, Storage* storage) {
+  std::vector<std::uint32_t> faces;
+  if (storage != nullptr) faces = std::move(storage->faces);
+  h.copy_triangles(level, faces);
+  return faces;
+}
+
 /// The significant coefficients dequantized into `values` (K per vertex, vertex-major, the others
 /// 0): value = midpoint * step_c / w_j (FORMAT.md §5).
-void dequantize(const Prepared& p, const zerotree::Decoded& decoded, std::vector<double>& values) {
+void dequantize(const Prepared& p, const zerotree::Decoded& decoded, std::vector<double>& values, bool zeroed = false) {
   const StreamHeader& header = p.header;
   const int K = p.components();
   const std::size_t k_stride = static_cast<std::size_t>(K);
@@ -204,9 +226,10 @@ void dequantize(const Prepared& p, const zerotree::Decoded& decoded, std::vector
     base_step[static_cast<std::size_t>(c)] = header.component_step(c, 0);
     detail_step[static_cast<std::size_t>(c)] = header.component_step(c, 1);
   }
-  // Insignificant coefficients are 0 (the zeros the vector starts with).
+  // Insignificant coefficients are 0 (the zeros the vector starts with, or already holds if
+  // `zeroed`: a second thread made it while the coefficients were decoded).
   // Made resident in one system call (large_array.h): the values are the largest array written here.
-  assign_large(values, std::size_t{p.hierarchy->vertex_count(header.levels)} * k_stride);
+  if (!zeroed) assign_large(values, std::size_t{p.hierarchy->vertex_count(header.levels)} * k_stride);
   decoded.for_each([&](const zerotree::Decoded::Coefficient& x) {
     const auto c = static_cast<std::size_t>(x.component);
     values[k_stride * x.vertex + c] = zerotree::dequantize(x.steps(), (x.level == 0 ? base_step : detail_step)[c],
@@ -244,9 +267,11 @@ struct Progress {
 
 /// The dequantized values synthesized level by level (to options.max_level) into the result's
 /// mesh and channels. `release` lets the finest faces be taken from the hierarchy (a decode
-/// that does not need it again) instead of copied.
+/// that does not need it again) instead of copied; `faces_made`, if given, holds the output's
+/// faces, made already (output_faces). On two threads (concurrent_decode) each level's rows are split
+/// between them: the same bits.
 DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, const Progress& progress,
-                        const DecodeOptions& options, Storage* storage) {
+                        const DecodeOptions& options, Storage* storage, std::vector<std::uint32_t>* faces_made = nullptr) {
   const StreamHeader& header = p.header;
   SemiRegularHierarchy& h = *p.hierarchy;
   const int L = header.levels;
@@ -254,7 +279,8 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   const std::size_t k_stride = static_cast<std::size_t>(K);
   DecodeResult result;
   result.levels = L;
-  result.level = options.max_level < 0 ? L : std::min(options.max_level, L);
+  result.level = output_level(options, L);
+  const bool concurrent = concurrent_decode(options, h.vertex_count(result.level));
   // Level by level (synthesize_level: at most one level's stencil tables in memory at once, for
   // Loop a block of them). With local frames, the details of level j + 1 are in the frames of
   // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
@@ -265,15 +291,19 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   if (header.local_frames && result.level > 0) reserve_large(normals, h.vertex_count(result.level - 1));
   for (int j = 0; j < result.level; ++j) {
     if (!header.local_frames) {
-      synthesize_level(h, wavelets, j, values, K);
+      synthesize_level(h, wavelets, j, values, K, {}, concurrent);
       continue;
     }
-    // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache.
+    // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache
+    // (LevelFrames::rotate is const: the two threads rotate their own blocks).
     frames::LevelFrames level_frames(h, j, values, K, std::move(normals));
     const std::uint32_t first_odd = h.vertex_count(j);
-    synthesize_level(h, wavelets, j, values, K, [&](std::uint32_t first, std::uint32_t count) {
-      level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
-    });
+    synthesize_level(
+        h, wavelets, j, values, K,
+        [&](std::uint32_t first, std::uint32_t count) {
+          level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
+        },
+        concurrent);
     normals = std::move(level_frames).release_storage();
   }
   normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
@@ -302,11 +332,15 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   if (storage == nullptr) values.shrink_to_fit();
   result.mesh.positions = std::move(values);
   std::vector<std::uint32_t> faces;
-  if (storage != nullptr) faces = std::move(storage->faces);
-  if (result.level == L && release)
-    std::move(h).release_finest_triangles(faces);
-  else
-    h.copy_triangles(result.level, faces);
+  if (faces_made != nullptr)
+    faces = std::move(*faces_made);
+  else {
+    if (storage != nullptr) faces = std::move(storage->faces);
+    if (result.level == L && release)
+      std::move(h).release_finest_triangles(faces);
+    else
+      h.copy_triangles(result.level, faces);
+  }
   result.mesh.triangles = std::move(faces);
   result.bit_plane = progress.last_plane;
   result.base_vertices_decoded = progress.base_decoded;
@@ -327,18 +361,36 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
     RangeDecoder decoder(stream.coefficients);
     zerotree::Decoded decoded;
     std::uint32_t base_decoded = 0;
-    {
-      const zerotree::Forest forest(*p.hierarchy);  // freed before the values are made
-      if (!decode_coefficients(p, forest, decoder, decoded, [&](std::uint32_t n) { base_decoded = n; }))
-        return corrupt_base_part();
-    }
     std::vector<double> values;
     if (storage != nullptr) values = std::move(storage->positions);
-    dequantize(p, decoded, values);
+    // On two threads, the output's faces and the values' zeros are made while the coefficients
+    // are decoded (a serial chain of decisions), instead of after the synthesis and before the
+    // dequantization: the faces are then held during the synthesis (peak memory measured in
+    // docs/RESULTS.md).
+    const SemiRegularHierarchy& h = *p.hierarchy;
+    const int level = output_level(options, p.header.levels);
+    const bool concurrent = concurrent_decode(options, h.vertex_count(level));
+    std::vector<std::uint32_t> faces;
+    {
+      const zerotree::Forest forest(h);  // freed before the values are made (on one thread)
+      bool base_part_whole = false;
+      run_both(
+          concurrent,
+          [&] {
+            if (!concurrent) return;
+            faces = output_faces(h, level, storage);
+            assign_large(values, std::size_t{h.vertex_count(p.header.levels)} * static_cast<std::size_t>(p.components()));
+          },
+          [&] {
+            base_part_whole = decode_coefficients(p, forest, decoder, decoded, [&](std::uint32_t n) { base_decoded = n; });
+          });
+      if (!base_part_whole) return corrupt_base_part();
+    }
+    dequantize(p, decoded, values, concurrent);
     const Progress progress{decoded.last_plane, decoded.complete, base_decoded, prefix.size(),
                             stream.container.truncated()};
     decoded = {};  // freed before the stencil tables are built: lower peak memory
-    return synthesize(p, true, std::move(values), progress, options, storage);
+    return synthesize(p, true, std::move(values), progress, options, storage, concurrent ? &faces : nullptr);
   } catch (const std::bad_alloc&) {
     return failure(Status::limit_exceeded, "not enough memory to decode this stream");
   } catch (const MeshError& e) {
@@ -525,11 +577,18 @@ struct Decoder::State final : ByteSource {
         try {
           std::vector<double> values;
           if (storage != nullptr) values = std::move(storage->positions);
-          dequantize(prepared, decoded, values);
+          // On two threads, the output's faces beside the dequantization (the worker waits).
+          const SemiRegularHierarchy& h = *prepared.hierarchy;
+          const int level = output_level(options, prepared.header.levels);
+          const bool concurrent = concurrent_decode(options, h.vertex_count(level));
+          std::vector<std::uint32_t> faces;
+          run_both(
+              concurrent, [&] { if (concurrent) faces = output_faces(h, level, storage); },
+              [&] { dequantize(prepared, decoded, values); });
           const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix().size(),
                                   stream.container.truncated()};
           lock.unlock();
-          result = synthesize(prepared, false, std::move(values), progress, options, storage);
+          result = synthesize(prepared, false, std::move(values), progress, options, storage, concurrent ? &faces : nullptr);
         } catch (const std::bad_alloc&) {
           result = failure(Status::limit_exceeded, "not enough memory to decode this stream");
         } catch (const MeshError& e) {

@@ -205,13 +205,15 @@ void apply_step(const LiftingStep& s, double* x, int channels, bool concurrent =
 }
 
 // Loop's predict step of a refined level applied as its rows are read off the coarse faces
-// (stencils::loop_halves, loop_inner), in chunks of coarse edges or faces, each chunk's targets
-// handed to before_odd first: each row computed as synthesize_run computes its table row (the
-// target times the scale 1 first, then the sources in row order with the row's weights), a
-// pillow's merged row as its table holds it (c once, with 1/8 + 1/8).
+// (stencils::loop_halves, loop_inner), for the halves of coarse edges [e0, e1) and then the inner
+// edges of coarse faces [f0, f1), in chunks, each chunk's targets handed to before_odd first: each
+// row computed as synthesize_run computes its table row (the target times the scale 1 first, then
+// the sources in row order with the row's weights), a pillow's merged row as its table holds it
+// (c once, with 1/8 + 1/8).
 template <int C>
 void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd, double* __restrict x, int channels,
-                         const std::function<void(std::uint32_t, std::uint32_t)>& before_odd) {
+                         const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, std::uint32_t e0,
+                         std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
   const int n = C > 0 ? C : channels;
   const double outer = 3.0 / 8, wing = 1.0 / 8, merged = 1.0 / 8 + 1.0 / 8, half = 0.5;
   double* target = nullptr;
@@ -249,15 +251,15 @@ void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd
     target += n;
   };
   constexpr std::uint32_t kChunk = 8192;
-  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  for (std::uint32_t begin = 0; begin < E; begin += kChunk) {
-    const std::uint32_t end = begin + std::min(kChunk, E - begin);
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count());
+  for (std::uint32_t begin = e0; begin < e1; begin += kChunk) {
+    const std::uint32_t end = begin + std::min(kChunk, e1 - begin);
     if (before_odd) before_odd(first_odd + 2 * begin, 2 * (end - begin));
     target = x + (std::size_t{first_odd} + 2 * std::size_t{begin}) * n;
     stencils::loop_halves(coarse, begin, end, interior, boundary);
   }
-  for (std::uint32_t begin = 0; begin < F; begin += kChunk) {
-    const std::uint32_t end = begin + std::min(kChunk, F - begin);
+  for (std::uint32_t begin = f0; begin < f1; begin += kChunk) {
+    const std::uint32_t end = begin + std::min(kChunk, f1 - begin);
     if (before_odd) before_odd(first_odd + 2 * E + 3 * begin, 3 * (end - begin));
     target = x + (std::size_t{first_odd} + 2 * std::size_t{E} + 3 * std::size_t{begin}) * n;
     stencils::loop_inner(coarse, begin, end, interior);
@@ -306,7 +308,7 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
 }
 
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
-                      int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd) {
+                      int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) {
   check_channels(channels);
   if (level < 0 || level >= hierarchy.levels())
     throw std::invalid_argument("synthesize_level: no level " + std::to_string(level) + " below the finest");
@@ -327,7 +329,7 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     if (level == 0)
       stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, apply);
     else
-      stencils::refined_predict_blocks(hierarchy.topology(level - 1), options.scheme, kBlockRows, apply);
+      stencils::refined_predict_blocks(hierarchy.topology(level - 1), options.scheme, kBlockRows, apply, concurrent);
     return;
   }
   if (options.scheme != Scheme::loop || level == 0) {
@@ -338,15 +340,23 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
   }
   // The predict step straight off the coarse faces, 8 Ki coarse edges or faces at a time; then
   // the update step in blocks of 16 Ki rows (256 KiB of sources, in L2 from writing to use).
+  // With `concurrent`, the second half of the edges and of the faces on a thread of their own.
   const TriangleTopology& coarse = hierarchy.topology(level - 1);
-  if (channels == 3)
-    loop_predict_direct<3>(coarse, first_odd, values.data(), 3, before_odd);
-  else if (channels == 1)
-    loop_predict_direct<1>(coarse, first_odd, values.data(), 1, before_odd);
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  auto predict = [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
+    if (channels == 3)
+      loop_predict_direct<3>(coarse, first_odd, values.data(), 3, before_odd, e0, e1, f0, f1);
+    else if (channels == 1)
+      loop_predict_direct<1>(coarse, first_odd, values.data(), 1, before_odd, e0, e1, f0, f1);
+    else
+      loop_predict_direct<0>(coarse, first_odd, values.data(), channels, before_odd, e0, e1, f0, f1);
+  };
+  if (concurrent)
+    run_both(true, [&] { predict(E / 2, E, F / 2, F); }, [&] { predict(0, E / 2, 0, F / 2); });
   else
-    loop_predict_direct<0>(coarse, first_odd, values.data(), channels, before_odd);
+    predict(0, E, 0, F);
   constexpr std::uint32_t kBlockRows = 16384;
-  stencils::loop_update_blocks(coarse, first_odd, kBlockRows, apply);
+  stencils::loop_update_blocks(coarse, first_odd, kBlockRows, apply, {}, concurrent);
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

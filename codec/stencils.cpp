@@ -1,5 +1,6 @@
 #include "stencils.h"
 
+#include "concurrent.h"
 #include "large_array.h"
 
 #include <algorithm>
@@ -224,15 +225,20 @@ class ButterflyVertices {
       if (t.edge_faces[2 * e + 1] == kNone) boundary_[a] = boundary_[b] = 1, any_boundary = true;
     }
     if (any_boundary) edges_.emplace(t);
+    // The ring weights of every interior valence present, made here so that nothing changes once
+    // built: two threads may write rows off one ButterflyVertices (refined_predict_blocks).
+    for (std::uint32_t v = 0; v < t.vertex_count; ++v)
+      if (irregular(v)) {
+        const std::uint32_t K = valence_[v];
+        if (ring_weights_.size() <= K) ring_weights_.resize(K + 1);
+        if (ring_weights_[K].empty()) ring_weights_[K] = butterfly_ring_weights(K);
+      }
   }
   std::uint32_t valence(std::uint32_t v) const { return valence_[v]; }
   bool irregular(std::uint32_t v) const { return !boundary_[v] && valence_[v] != 6; }
   const VertexEdges& edges() const { return *edges_; }
-  const std::vector<double>& ring_weights(unsigned K) {
-    if (ring_weights_.size() <= K) ring_weights_.resize(K + 1);
-    if (ring_weights_[K].empty()) ring_weights_[K] = butterfly_ring_weights(K);
-    return ring_weights_[K];
-  }
+  /// Those of an irregular vertex's valence K (made by the constructor).
+  const std::vector<double>& ring_weights(unsigned K) const { return ring_weights_[K]; }
 
  private:
   std::vector<std::uint32_t> valence_;
@@ -412,7 +418,7 @@ void butterfly_extraordinary_terms(RowBuilder& row, std::uint32_t x, std::span<c
 /// The rows of predict(t, Scheme::butterfly) for edges [begin, end), read off t: a boundary edge
 /// by the 4-point rule, an edge with an extraordinary endpoint by the ring rule, any other by
 /// butterfly_regular_row.
-void butterfly_rows(StepWriter& step, const TriangleTopology& t, ButterflyVertices& vertices, std::uint32_t begin,
+void butterfly_rows(StepWriter& step, const TriangleTopology& t, const ButterflyVertices& vertices, std::uint32_t begin,
                     std::uint32_t end) {
   const std::uint32_t regular = butterfly_regular_pattern(step);
   RowBuilder row;
@@ -608,16 +614,16 @@ void loop_update_even(StepWriter& step, LoopUpdatePatterns& pattern, const Trian
       [&](std::uint32_t, std::uint32_t n, bool on_boundary) { return pattern(n, on_boundary); });
 }
 
-/// Rows of `count` items (`rows_per_item` consecutive rows each, at most `arity` sources per row,
-/// the first target `first_target`), written by write(step, begin, end) a block of about
+/// Rows of items [first, last) (`rows_per_item` consecutive rows each, at most `arity` sources per
+/// row; item 0's first target `first_target`), written by write(step, begin, end) a block of about
 /// `block_rows` rows at a time into `buffer` and handed to `apply`.
 template <class Write>
-void in_blocks(std::uint32_t first_target, std::uint32_t count, std::uint32_t rows_per_item, std::uint32_t arity,
-               std::uint32_t block_rows, std::vector<std::uint32_t>& buffer,
+void in_blocks(std::uint32_t first_target, std::uint32_t first, std::uint32_t last, std::uint32_t rows_per_item,
+               std::uint32_t arity, std::uint32_t block_rows, std::vector<std::uint32_t>& buffer,
                const std::function<void(const LiftingStep&)>& apply, Write&& write) {
   const std::uint32_t items = std::max<std::uint32_t>(1, block_rows / rows_per_item);
-  for (std::uint32_t begin = 0; begin < count; begin += items) {
-    const std::uint32_t end = begin + std::min(items, count - begin);
+  for (std::uint32_t begin = first; begin < last; begin += items) {
+    const std::uint32_t end = begin + std::min(items, last - begin);
     StepWriter step(first_target + rows_per_item * begin, std::size_t{arity} * rows_per_item * (end - begin), std::move(buffer));
     write(step, begin, end);
     LiftingStep block = step.finish();
@@ -637,21 +643,36 @@ void in_blocks(std::uint32_t first_target, std::uint32_t count, std::uint32_t ro
 /// read of the fine level (valences, rings, boundary neighbours) comes from the coarse level: a
 /// coarse vertex keeps its valence and boundary, an odd vertex has valence 6, or 4 on the
 /// boundary, and is never extraordinary.
-class ButterflyRefinedRows {
- public:
-  explicit ButterflyRefinedRows(const TriangleTopology& coarse) : t_(coarse), vertices_(coarse), V_(coarse.vertex_count) {
+/// What every row of the refined level reads of the coarse one, built once and then only read
+/// (rows may be written off it on two threads, each with its own ButterflyRefinedRows).
+struct ButterflyRefinedLevel {
+  explicit ButterflyRefinedLevel(const TriangleTopology& coarse) : t(coarse), vertices(coarse), V(coarse.vertex_count) {
     // The tips across each face's edges, looked up once per face rather than once per row that
     // reads them (four rows each).
     const std::size_t F = coarse.face_count();
-    assign_large(across_, 6 * F);
+    assign_large(across, 6 * F);
     for (std::uint32_t f = 0; f < F; ++f)
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t e = coarse.face_edges[3 * f + k], g = other_face(coarse, e, f);
-        std::uint32_t* out = &across_[6 * std::size_t{f} + 2 * k];
+        std::uint32_t* out = &across[6 * std::size_t{f} + 2 * k];
         for (std::uint32_t s = 0; s < 2; ++s)
-          out[s] = g == kNone ? kNone : V_ + other_edge_at(coarse, g, e, coarse.triangles[3 * f + (k + s) % 3]);
+          out[s] = g == kNone ? kNone : V + other_edge_at(coarse, g, e, coarse.triangles[3 * f + (k + s) % 3]);
       }
   }
+
+  const TriangleTopology& t;
+  ButterflyVertices vertices;
+  std::uint32_t V;
+  // across[6f + 2k + s]: the midpoint of the other edge, at corner c_{k+s} of face f, of the face
+  // across f's edge k (kNone on the boundary): the tip across a wing that is the half of edge k
+  // at c_{k+s}.
+  std::vector<std::uint32_t> across;
+};
+
+class ButterflyRefinedRows {
+ public:
+  explicit ButterflyRefinedRows(const ButterflyRefinedLevel& level)
+      : t_(level.t), vertices_(level.vertices), V_(level.V), across_(level.across) {}
 
   /// The rows of the halves of coarse edges [begin, end): (a, m) then (m, b) for each.
   void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
@@ -746,12 +767,9 @@ class ButterflyRefinedRows {
   }
 
   const TriangleTopology& t_;
-  ButterflyVertices vertices_;
+  const ButterflyVertices& vertices_;
   std::uint32_t V_;
-  // across_[6f + 2k + s]: the midpoint of the other edge, at corner c_{k+s} of face f, of the face
-  // across f's edge k (kNone on the boundary): the tip across a wing that is the half of edge k
-  // at c_{k+s}.
-  std::vector<std::uint32_t> across_;
+  const std::vector<std::uint32_t>& across_;  // ButterflyRefinedLevel::across
   RowBuilder row_;
   std::vector<std::uint32_t> ring_;
 };
@@ -782,16 +800,16 @@ struct LinearRefinedRows {
   }
 };
 
-/// Calls use(rows) with the reader of `scheme`'s refined rows (linear or butterfly).
+/// Calls use(make_rows) with a maker of readers of `scheme`'s refined rows (linear or
+/// butterfly): make_rows() gives a reader of its own, for one thread, over what all share.
 template <class Use>
 void with_refined_rows(const TriangleTopology& coarse, Scheme scheme, const char* caller, Use&& use) {
   if (scheme == Scheme::loop) throw std::invalid_argument(std::string(caller) + ": linear or butterfly only");
   if (scheme == Scheme::linear) {
-    LinearRefinedRows rows{coarse};
-    use(rows);
+    use([&] { return LinearRefinedRows{coarse}; });
   } else {
-    ButterflyRefinedRows rows(coarse);
-    use(rows);
+    const ButterflyRefinedLevel level(coarse);
+    use([&] { return ButterflyRefinedRows(level); });
   }
 }
 
@@ -815,7 +833,8 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   StepWriter step(coarse.vertex_count + E, predict_arity(scheme) * (2 * std::size_t{E} + 3 * std::size_t{F}));
-  with_refined_rows(coarse, scheme, "refined_predict", [&](auto& rows) {
+  with_refined_rows(coarse, scheme, "refined_predict", [&](auto make_rows) {
+    auto rows = make_rows();
     rows.halves(step, 0, E);
     rows.inner(step, 0, F);
   });
@@ -823,15 +842,21 @@ LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
 }
 
 void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
-                            const std::function<void(const LiftingStep&)>& apply) {
+                            const std::function<void(const LiftingStep&)>& apply, bool concurrent) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   const std::uint32_t first_odd = coarse.vertex_count + E, arity = static_cast<std::uint32_t>(predict_arity(scheme));
-  std::vector<std::uint32_t> buffer;
-  with_refined_rows(coarse, scheme, "refined_predict_blocks", [&](auto& rows) {
-    in_blocks(first_odd, E, 2, arity, block_rows, buffer, apply,
-              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.halves(step, begin, end); });
-    in_blocks(first_odd + 2 * E, F, 3, arity, block_rows, buffer, apply,
-              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
+  with_refined_rows(coarse, scheme, "refined_predict_blocks", [&](auto make_rows) {
+    // The halves of coarse edges [e0, e1), then the inner edges of coarse faces [f0, f1).
+    auto part = [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
+      auto rows = make_rows();
+      std::vector<std::uint32_t> buffer;
+      in_blocks(first_odd, e0, e1, 2, arity, block_rows, buffer, apply,
+                [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.halves(step, begin, end); });
+      in_blocks(first_odd + 2 * E, f0, f1, 3, arity, block_rows, buffer, apply,
+                [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
+    };
+    if (!concurrent) return part(0, E, 0, F);
+    run_both(true, [&] { part(E / 2, E, F / 2, F); }, [&] { part(0, E / 2, 0, F / 2); });
   });
 }
 
@@ -845,30 +870,37 @@ void loop_refined_blocks(const TriangleTopology& coarse, std::uint32_t fine_vert
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   std::vector<std::uint32_t> buffer;
   // Predict: the halves' rows, then the inner edges' (loop_predict_refined).
-  in_blocks(fine_vertices, E, 2, 4, block_rows, buffer, apply, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+  in_blocks(fine_vertices, 0, E, 2, 4, block_rows, buffer, apply, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
     loop_predict_halves(step, coarse, begin, end);
   });
-  in_blocks(fine_vertices + 2 * E, F, 3, 4, block_rows, buffer, apply,
+  in_blocks(fine_vertices + 2 * E, 0, F, 3, 4, block_rows, buffer, apply,
             [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { loop_predict_inner(step, coarse, begin, end); });
   loop_update_blocks(coarse, fine_vertices, block_rows, apply, std::move(buffer));
 }
 
 void loop_update_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
-                        const std::function<void(const LiftingStep&)>& apply, std::vector<std::uint32_t> buffer) {
+                        const std::function<void(const LiftingStep&)>& apply, std::vector<std::uint32_t> buffer,
+                        bool concurrent) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count());
+  // The odd vertices' rows of coarse edges [first, last).
+  auto odd = [&](std::uint32_t first, std::uint32_t last, std::vector<std::uint32_t>& storage) {
+    in_blocks(coarse.vertex_count, first, last, 1, 6, block_rows, storage, apply,
+              [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+                LoopUpdatePatterns pattern(step);
+                loop_update_odd(step, pattern, coarse, fine_vertices, begin, end);
+              });
+  };
   // The coarse vertices' rows in one block (their counting sort runs over all coarse edges),
-  // then the odd vertices'.
-  {
+  // then the odd vertices'; on two threads, the second half of the odd vertices' beside them.
+  std::vector<std::uint32_t> second_buffer;
+  run_both(concurrent, [&] { if (concurrent) odd(E / 2, E, second_buffer); }, [&] {
     StepWriter step(0, 2 * std::size_t{E}, std::move(buffer));
     LoopUpdatePatterns pattern(step);
     loop_update_even(step, pattern, coarse, fine_vertices);
     LiftingStep block = step.finish();
     apply(block);
     buffer = std::move(block.indices);
-  }
-  in_blocks(coarse.vertex_count, E, 1, 6, block_rows, buffer, apply, [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) {
-    LoopUpdatePatterns pattern(step);
-    loop_update_odd(step, pattern, coarse, fine_vertices, begin, end);
+    odd(0, concurrent ? E / 2 : E, buffer);
   });
 }
 

@@ -27,9 +27,11 @@ void predict_blocks(const TriangleTopology& topology, Scheme scheme, std::uint32
 /// same order, read off the coarse level by the refinement rule (the fine level's topology is not
 /// needed), as consecutive blocks of about `block_rows` rows (the halves of block_rows / 2 coarse
 /// edges, or the inner edges of block_rows / 3 coarse faces), handed to `apply` one at a time in
-/// one reused buffer. \throw std::invalid_argument for Scheme::loop (loop_refined_blocks).
+/// one reused buffer. With `concurrent`, the second half of the edges' and of the faces' rows on
+/// a thread of its own (each half in the same order): `apply` is then called from two threads at
+/// once, with disjoint blocks. \throw std::invalid_argument for Scheme::loop (loop_refined_blocks).
 void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
-                            const std::function<void(const LiftingStep&)>& apply);
+                            const std::function<void(const LiftingStep&)>& apply, bool concurrent = false);
 /// The same rows as one step: predict(coarse.refined(), scheme), read off the coarse level.
 /// \throw std::invalid_argument for Scheme::loop (loop_predict_refined).
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
@@ -58,9 +60,12 @@ void loop_refined_blocks(const TriangleTopology& coarse, std::uint32_t fine_vert
                          const std::function<void(const LiftingStep&)>& apply);
 
 /// The update half of loop_refined_blocks (its blocks after the predict step's), in `buffer`'s
-/// storage: for a caller that applies the predict step its own way.
+/// storage: for a caller that applies the predict step its own way. With `concurrent`, the second
+/// half of the odd vertices' rows on a thread of its own: `apply` is then called from two threads
+/// at once, with disjoint blocks (the step's rows are independent).
 void loop_update_blocks(const TriangleTopology& coarse, std::uint32_t fine_vertices, std::uint32_t block_rows,
-                        const std::function<void(const LiftingStep&)>& apply, std::vector<std::uint32_t> buffer = {});
+                        const std::function<void(const LiftingStep&)>& apply, std::vector<std::uint32_t> buffer = {},
+                        bool concurrent = false);
 
 /// Where edge e sits in face f: face edge i runs corner i -> i+1.
 inline std::uint32_t edge_in_face(const TriangleTopology& t, std::uint32_t f, std::uint32_t e) {

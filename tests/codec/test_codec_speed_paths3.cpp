@@ -404,3 +404,98 @@ TEST_CASE("the two-thread encoder's queue of decisions wraps many times and give
   o.threads = 0;  // above kConcurrentEncodeVertices: both cores where there are two
   CHECK(encode(m, o) == one);
 }
+
+TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each odd vertex over once", "[lifting]") {
+  // The block paths split between the threads (Loop; linear and butterfly without the update),
+  // and the others, which run on one whatever is asked; a boundary (the disk) and extraordinary
+  // vertices (its centre, the icosahedron's corners); before_odd counted per vertex from both.
+  for (const TriangleMesh& base : {test::disk(7), test::icosahedron()}) {
+    const SemiRegularMesh m = refine_linear(base, 4);
+    const std::vector<double> noise = test::random_values(m.positions.size(), 13);
+    for (const WaveletOptions options : {WaveletOptions{Scheme::linear, false}, WaveletOptions{Scheme::butterfly, false},
+                                         WaveletOptions{Scheme::butterfly, true}, WaveletOptions{Scheme::loop, false}}) {
+      for (const int channels : {1, 3, 5}) {
+        INFO("scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update << ", "
+                       << channels << " channels");
+        std::vector<double> one(noise.begin(), noise.end());
+        one.resize(std::size_t{m.hierarchy.vertex_count(4)} * static_cast<std::size_t>(channels), 0.25);
+        std::vector<double> two = one;
+        for (int level = 0; level < 4; ++level) {
+          const std::uint32_t first = m.hierarchy.vertex_count(level), last = m.hierarchy.vertex_count(level + 1);
+          std::vector<std::atomic<int>> handed(last - first);
+          synthesize_level(m.hierarchy, options, level, one, channels);
+          synthesize_level(
+              m.hierarchy, options, level, two, channels,
+              [&](std::uint32_t begin, std::uint32_t count) {
+                for (std::uint32_t v = begin; v < begin + count; ++v) ++handed[v - first];
+              },
+              true);
+          CHECK(std::all_of(handed.begin(), handed.end(), [](const std::atomic<int>& n) { return n == 1; }));
+        }
+        CHECK(same_bits(one, two));
+      }
+    }
+  }
+}
+
+TEST_CASE("the decoder gives the same mesh on 1 and 2 threads: decode, decode_into and the streaming Decoder", "[codec]") {
+  // Each scheme (butterfly also with the mean-preserving update, whose levels are synthesized
+  // from tables), local frames on and off, a boundary and a channel; the whole file, prefixes
+  // that end in the base part and in the bit planes, and a coarser level. Two threads are asked
+  // for (threads = 2), so the small mesh is split too; threads = 0 takes one thread below
+  // kConcurrentDecodeVertices.
+  SemiRegularMesh given = refine_linear(test::disk(7), 3);
+  const std::vector<double> noise = test::random_values(given.positions.size(), 14);
+  for (std::size_t i = 0; i < given.positions.size(); ++i) given.positions[i] += 0.01 * noise[i];
+  VertexChannel scalar{1, {}};
+  for (std::size_t v = 0; v < given.positions.size() / 3; ++v) scalar.values.push_back(std::cos(4 * given.positions[3 * v + 1]));
+  given.channels = {scalar};
+  for (const Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop}) {
+    for (const bool update : {false, true}) {
+      if (update && scheme != Scheme::butterfly) continue;
+      for (const bool frames : {false, true}) {
+        EncodeOptions o;
+        o.scheme = scheme;
+        o.mean_preserving_update = update;
+        o.local_frames = frames;
+        const std::vector<std::uint8_t> file = encode(given, o);
+        // Cuts in the base part (its middle) and in the bit planes (just after it, and halfway).
+        const StreamInfo info = inspect(file);
+        const auto coefficients = std::find_if(info.chunks.begin(), info.chunks.end(),
+                                               [](const StreamInfo::Chunk& c) { return c.tag == "COEF"; });
+        REQUIRE(coefficients != info.chunks.end());
+        REQUIRE(info.base_part_bytes >= 12);
+        // The payload after the tag and a length of at most 3 bytes (FORMAT.md §2).
+        const std::size_t base_part = coefficients->offset + 7, planes = base_part + info.base_part_bytes + 40;
+        const std::size_t in_base_part = base_part + info.base_part_bytes / 2;
+        REQUIRE(planes < file.size());
+        for (const std::size_t bytes : {file.size(), planes, (file.size() + planes) / 2, in_base_part}) {
+          for (const int level : {-1, 2}) {
+            INFO("scheme " << static_cast<int>(scheme) << ", update " << update << ", frames " << frames << ", "
+                           << bytes << " bytes, level " << level);
+            DecodeOptions one;
+            one.max_bytes = bytes;
+            one.max_level = level;
+            one.threads = 1;
+            DecodeOptions two = one;
+            two.threads = 2;
+            const DecodeResult reference = decode(file, one);
+            REQUIRE(reference.status == Status::ok);
+            if (bytes == in_base_part) CHECK(reference.base_vertices_decoded < info.base_vertices);
+            CHECK(same_result(decode(file, two), reference));
+            DecodeResult into;
+            decode_into(file, two, into);
+            CHECK(same_result(into, reference));
+            decode_into(file, two, into);  // its arrays lent again
+            CHECK(same_result(into, reference));
+            Decoder streaming(two);
+            const std::span<const std::uint8_t> prefix = std::span(file).first(bytes);
+            for (std::size_t at = 0; at < prefix.size(); at += 97)
+              streaming.push(prefix.subspan(at, std::min<std::size_t>(97, prefix.size() - at)));
+            CHECK(same_result(streaming.mesh(), reference));
+          }
+        }
+      }
+    }
+  }
+}

@@ -196,6 +196,14 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   const auto decoded = run("decode " + mlz + " -o " + (dir / "dec.off").string() + " --stats");
   REQUIRE(decoded.exit_code == 0);
   CHECK_THAT(decoded.output, Catch::Contains("vertices/s"));
+  // On one thread or two, the same file.
+  for (const char* threads : {"1", "2"}) {
+    const std::string out = (dir / (std::string("dec_threads") + threads + ".off")).string();
+    const auto again = run("decode " + mlz + " -o " + out + " --stats --threads " + threads);
+    REQUIRE(again.exit_code == 0);
+    CHECK_THAT(again.output, Catch::Contains(std::string("--threads ") + threads));
+    CHECK(read_file(out) == read_file(dir / "dec.off"));
+  }
   std::istringstream header(read_file(dir / "dec.off"));
   std::string magic;
   int v = 0, f = 0;

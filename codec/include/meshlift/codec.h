@@ -83,6 +83,12 @@ struct DecodeOptions {
   std::size_t max_bytes = std::numeric_limits<std::size_t>::max();  ///< read at most this prefix
   int max_level = -1;                                                 ///< stop synthesis at this level
   DecodeLimits limits;
+  /// Threads the decoder may use: 1 for the caller's alone, N >= 2 for two (the output's faces
+  /// made while the coefficients are decoded, each level's synthesis split between them), 0 for
+  /// that on a machine with more than one core and an output of kConcurrentDecodeVertices or
+  /// more. The decoded mesh never depends on it.
+  unsigned threads = 0;
+  static constexpr std::uint32_t kConcurrentDecodeVertices = 1u << 15;
 };
 
 struct DecodeResult {

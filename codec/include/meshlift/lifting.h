@@ -127,7 +127,12 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
 /// vertices still hold the level-`level` mesh: in each block's turn where the level is made a
 /// block at a time, else once for all of them first. For a caller that prepares the details
 /// there while they are in cache (the decoder turns them out of their local frames).
+/// With `concurrent`, the block paths (Loop and, without the mean-preserving update, linear and
+/// butterfly, above the base) run on two threads, each half of a step's rows on one: the same
+/// bits (a step's rows are independent), and before_odd is then called from both threads at once,
+/// with disjoint ranges.
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
-                      int channels, const std::function<void(std::uint32_t first, std::uint32_t count)>& before_odd);
+                      int channels, const std::function<void(std::uint32_t first, std::uint32_t count)>& before_odd,
+                      bool concurrent = false);
 
 }  // namespace meshlift
