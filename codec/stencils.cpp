@@ -632,19 +632,9 @@ void in_blocks(std::uint32_t first_target, std::uint32_t first, std::uint32_t la
   }
 }
 
-/// The rows of predict(coarse.refined(), Scheme::butterfly), read off the coarse level by the 1:4
-/// rule (see loop_halves and loop_inner in stencils.h for how refined() numbers and orients the
-/// fine edges and faces): for each fine edge its endpoints a0, a1, and on each side (its first
-/// face, then its second) the vertex b opposite it and the tips across the two wings, at a0 then
-/// at a1, as butterfly_rows gathers them, handed to the same rules. A wing that is an inner edge
-/// has a centre or corner face across, whose third vertex is known; a wing that is the half of a
-/// coarse edge e' at corner x has across it the corner face at x of the coarse face on the other
-/// side of e', whose third vertex is the midpoint of that face's other edge at x. What the rules
-/// read of the fine level (valences, rings, boundary neighbours) comes from the coarse level: a
-/// coarse vertex keeps its valence and boundary, an odd vertex has valence 6, or 4 on the
-/// boundary, and is never extraordinary.
-/// What every row of the refined level reads of the coarse one, built once and then only read
-/// (rows may be written off it on two threads, each with its own ButterflyRefinedRows).
+/// What every row of butterfly's refined level (ButterflyRefinedRows) reads of the coarse one,
+/// built once and then only read: rows may be written off it on two threads, each with its own
+/// ButterflyRefinedRows.
 struct ButterflyRefinedLevel {
   explicit ButterflyRefinedLevel(const TriangleTopology& coarse) : t(coarse), vertices(coarse), V(coarse.vertex_count) {
     // The tips across each face's edges, looked up once per face rather than once per row that
@@ -669,6 +659,17 @@ struct ButterflyRefinedLevel {
   std::vector<std::uint32_t> across;
 };
 
+/// The rows of predict(coarse.refined(), Scheme::butterfly), read off the coarse level by the 1:4
+/// rule (see loop_halves and loop_inner in stencils.h for how refined() numbers and orients the
+/// fine edges and faces): for each fine edge its endpoints a0, a1, and on each side (its first
+/// face, then its second) the vertex b opposite it and the tips across the two wings, at a0 then
+/// at a1, as butterfly_rows gathers them, handed to the same rules. A wing that is an inner edge
+/// has a centre or corner face across, whose third vertex is known; a wing that is the half of a
+/// coarse edge e' at corner x has across it the corner face at x of the coarse face on the other
+/// side of e', whose third vertex is the midpoint of that face's other edge at x. What the rules
+/// read of the fine level (valences, rings, boundary neighbours) comes from the coarse level: a
+/// coarse vertex keeps its valence and boundary, an odd vertex has valence 6, or 4 on the
+/// boundary, and is never extraordinary.
 class ButterflyRefinedRows {
  public:
   explicit ButterflyRefinedRows(const ButterflyRefinedLevel& level)
