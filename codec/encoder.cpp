@@ -421,6 +421,9 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       // vertices' details into their frames, quantized, their reconstructions back (the same
       // operations as three passes over the level: no vertex reads another's values here, so
       // the two halves of the level's edges may run side by side).
+      // The finest level's reconstruction is read by nothing (no frames are made from it): its
+      // details are only turned and quantized.
+      const bool finest = j + 1 == L;
       const frames::LevelFrames level_frames(h, j, decoded, K);
       auto close_loop = [&](std::uint32_t begin, std::uint32_t end) {
         bool too_fine_here = false;
@@ -428,7 +431,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
           const std::size_t first = h.odd_vertex(j, block.first_edge);
           for (std::uint32_t i = 0; i < block.count; ++i)
             block.rotate(i, &values[k_stride * (first + i)], frames::Direction::to_local);
-          too_fine_here |= quantize_vertices(j + 1, first, block.count, decoded.data());
+          too_fine_here |= quantize_vertices(j + 1, first, block.count, finest ? nullptr : decoded.data());
+          if (finest) return;
           for (std::uint32_t i = 0; i < block.count; ++i)
             block.rotate(i, &decoded[k_stride * (first + i)], frames::Direction::to_global);
         });
@@ -439,7 +443,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       run_both(
           concurrent, [&] { second_half = close_loop(half, edges); }, [&] { first_half = close_loop(0, half); });
       too_fine |= first_half || second_half;
-      transform.synthesize(decoded, K, j + 1, j, concurrent);
+      if (!finest) transform.synthesize(decoded, K, j + 1, j, concurrent);
     }
   }
   if (too_fine)
