@@ -553,12 +553,14 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     const std::vector<std::array<std::uint32_t, 2>>& crossings = *input_crossings;
     result.input_crossing_pairs = crossings.size();
     result.coincident_vertices = checked.duplicate_vertices;
+    result.flipped_near_input_crossings = 0;
     if (result.flipped_triangles == 0 || crossings.empty()) return;
     std::vector<std::uint8_t> crossing(mesh.face_count(), 0);
     for (const auto& [f, g] : crossings) crossing[f] = crossing[g] = 1;
     const TriangleMesh finest = result.mesh.finest();
-    result.flipped_where_input_crosses =
-        count_at_crossings(finest, find_fold_overs(finest, surface).flipped, surface, crossing);
+    const std::vector<std::uint32_t> flipped = find_fold_overs(finest, surface).flipped;
+    result.flipped_where_input_crosses = count_at_crossings(finest, flipped, surface, crossing);
+    result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, faces_near_marked(mesh, crossing, 2));
   };
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);

@@ -160,7 +160,10 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  path.c_str(), result.input_crossing_pairs,
                  result.flipped_triangles == 0 ? ""
                  : ("; " + std::to_string(result.flipped_where_input_crosses) +
-                    " of the flipped triangles are there, where no orientation faces both sheets")
+                    " of the flipped triangles are there, where no orientation faces both sheets" +
+                    (result.flipped_near_input_crossings > 0
+                         ? ", and " + std::to_string(result.flipped_near_input_crossings) + " within two faces of them"
+                         : std::string()))
                        .c_str());
   if (result.coincident_vertices > 0) {
     // Whether --weld would help: joined (and turned to agree, if need be), is the mesh still one

@@ -126,3 +126,36 @@ TEST_CASE("Self-intersections reject coordinates and indices they cannot trust",
   m.triangles[5] = 1000;
   CHECK_THROWS_AS(self_intersections(m), MeshError);
 }
+
+TEST_CASE("faces_near_marked finds the faces within k rings of the marked ones, as a brute-force search does", "[remesh][self_intersection]") {
+  const TriangleMesh grid = test::grid(12);
+  const std::size_t F = grid.face_count();
+  std::vector<std::uint8_t> marked(F, 0);
+  marked[F / 2] = marked[F / 2 + 7] = marked[0] = 1;  // two inside, one at a corner of the grid
+  // Brute force: ring k + 1 holds the faces sharing a corner with a face of rings 0..k.
+  std::vector<int> ring(F, -1);
+  for (std::size_t f = 0; f < F; ++f)
+    if (marked[f]) ring[f] = 0;
+  auto share_corner = [&](std::size_t f, std::size_t g) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (grid.triangles[3 * f + i] == grid.triangles[3 * g + j]) return true;
+    return false;
+  };
+  for (int k = 0; k < 3; ++k)
+    for (std::size_t f = 0; f < F; ++f)
+      if (ring[f] == k)
+        for (std::size_t g = 0; g < F; ++g)
+          if (ring[g] < 0 && share_corner(f, g)) ring[g] = k + 1;
+  for (const int rings : {0, 1, 2, 3}) {
+    INFO(rings << " rings");
+    const std::vector<std::uint8_t> near = faces_near_marked(grid, marked, rings);
+    REQUIRE(near.size() == F);
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < F; ++f) {
+      CHECK((near[f] != 0) == (ring[f] >= 1 && ring[f] <= rings));
+      count += near[f] != 0;
+    }
+    if (rings > 0) CHECK(count > 0);
+  }
+}

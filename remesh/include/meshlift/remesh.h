@@ -220,6 +220,10 @@ struct RemeshResult {
   /// sheet: no orientation of a face there agrees with both, and the flip test cannot be met.
   std::size_t input_crossing_pairs = 0;
   std::size_t flipped_where_input_crosses = 0;
+  /// Of the other flipped triangles, those whose closest input face lies within two rings of a
+  /// crossing face (self_intersection.h: faces_near_marked), where the remesh turns from one
+  /// sheet to the other too. Reported only: the remesher's choices count the ones above.
+  std::size_t flipped_near_input_crossings = 0;
   /// Input vertices at exactly the position of another (validate.h's duplicate_vertices): an
   /// unwelded seam or pieces, which the remesh keeps apart (each side of a seam a boundary).
   std::size_t coincident_vertices = 0;

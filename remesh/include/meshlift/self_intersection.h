@@ -31,4 +31,12 @@ namespace meshlift {
 std::vector<std::array<std::uint32_t, 2>> self_intersections(const TriangleMesh& mesh, std::size_t max_pairs = SIZE_MAX,
                                                              std::size_t* total = nullptr);
 
+/// The faces of `mesh` within `rings` rings of the faces marked in `marked` (one per face, nonzero:
+/// marked) but not marked themselves: 1 for a face that shares a corner with a marked face, or
+/// (rings 2 and more) with such a face, and so on; 0 for the others. Where the input passes
+/// through itself, the faces next to the crossing faces are where a remesh spanning both sheets
+/// turns over too (docs/RESULTS.md: mannequin-devil's folds off the crossings lie within 2 rings).
+/// \pre marked.size() == mesh.face_count(), every index names a vertex.
+std::vector<std::uint8_t> faces_near_marked(const TriangleMesh& mesh, const std::vector<std::uint8_t>& marked, int rings);
+
 }  // namespace meshlift
