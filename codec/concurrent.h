@@ -1,7 +1,8 @@
-// Two tasks at once, for the encoder's independent stages (internal to codec/).
+// Two tasks at once, for the encoder's and the decoder's independent stages (internal to codec/).
 #pragma once
 
 #include <exception>
+#include <new>
 #include <system_error>
 #include <thread>
 
@@ -25,6 +26,8 @@ bool try_run_both(First&& first, Second&& second) {
       }
     });
   } catch (const std::system_error&) {
+    return false;
+  } catch (const std::bad_alloc&) {  // the thread's own state
     return false;
   }
   try {

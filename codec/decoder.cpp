@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <new>
 #include <thread>
@@ -268,8 +269,8 @@ struct Progress {
 /// The dequantized values synthesized level by level (to options.max_level) into the result's
 /// mesh and channels. `release` lets the finest faces be taken from the hierarchy (a decode
 /// that does not need it again) instead of copied; `faces_made`, if given, holds the output's
-/// faces, made already (output_faces). On two threads (concurrent_decode) each level's rows are split
-/// between them: the same bits.
+/// faces, made already (output_faces). On two threads (concurrent_decode) each level above the
+/// base has its rows split between them (synthesize_level: the block paths): the same bits.
 DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, const Progress& progress,
                         const DecodeOptions& options, Storage* storage, std::vector<std::uint32_t>* faces_made = nullptr) {
   const StreamHeader& header = p.header;
@@ -374,17 +375,25 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
     {
       const zerotree::Forest forest(h);  // freed before the values are made (on one thread)
       bool base_part_whole = false;
+      // A failure to allocate there is reported after the base part's verdict, as on one thread
+      // (which allocates them after it): a corrupt base part is `corrupt` whatever the threads.
+      std::exception_ptr allocation_failed;
       run_both(
           concurrent,
           [&] {
             if (!concurrent) return;
-            faces = output_faces(h, level, storage);
-            assign_large(values, std::size_t{h.vertex_count(p.header.levels)} * static_cast<std::size_t>(p.components()));
+            try {
+              faces = output_faces(h, level, storage);
+              assign_large(values, std::size_t{h.vertex_count(p.header.levels)} * static_cast<std::size_t>(p.components()));
+            } catch (...) {
+              allocation_failed = std::current_exception();
+            }
           },
           [&] {
             base_part_whole = decode_coefficients(p, forest, decoder, decoded, [&](std::uint32_t n) { base_decoded = n; });
           });
       if (!base_part_whole) return corrupt_base_part();
+      if (allocation_failed) std::rethrow_exception(allocation_failed);
     }
     dequantize(p, decoded, values, concurrent);
     const Progress progress{decoded.last_plane, decoded.complete, base_decoded, prefix.size(),

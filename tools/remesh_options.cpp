@@ -162,7 +162,8 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  : ("; " + std::to_string(result.flipped_where_input_crosses) +
                     " of the flipped triangles are there, where no orientation faces both sheets" +
                     (result.flipped_near_input_crossings > 0
-                         ? ", and " + std::to_string(result.flipped_near_input_crossings) + " within two faces of them"
+                         ? ", and " + std::to_string(result.flipped_near_input_crossings) +
+                               " within two faces of the crossing faces"
                          : std::string()))
                        .c_str());
   if (result.coincident_vertices > 0) {

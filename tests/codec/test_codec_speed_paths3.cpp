@@ -436,6 +436,28 @@ TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each
       }
     }
   }
+  // A level large enough that each thread's half takes many blocks (8 Ki rows, 8 Ki chunks of
+  // coarse edges and faces: level 6 of the refined icosahedron has 61,440 coarse edges and
+  // 40,960 faces), so the second half starts inside a block's worth of rows.
+  const SemiRegularMesh large = refine_linear(test::icosahedron(), 7);
+  const std::vector<double> large_noise = test::random_values(large.positions.size(), 16);
+  for (const WaveletOptions options : {WaveletOptions{Scheme::butterfly, false}, WaveletOptions{Scheme::loop, false},
+                                       WaveletOptions{Scheme::linear, false}}) {
+    INFO("large, scheme " << static_cast<int>(options.scheme));
+    std::vector<double> one(large_noise.begin(), large_noise.end());
+    std::vector<double> two = one;
+    const std::uint32_t first = large.hierarchy.vertex_count(6), last = large.hierarchy.vertex_count(7);
+    std::vector<std::atomic<int>> handed(last - first);
+    synthesize_level(large.hierarchy, options, 6, one, 3);
+    synthesize_level(
+        large.hierarchy, options, 6, two, 3,
+        [&](std::uint32_t begin, std::uint32_t count) {
+          for (std::uint32_t v = begin; v < begin + count; ++v) ++handed[v - first];
+        },
+        true);
+    CHECK(std::all_of(handed.begin(), handed.end(), [](const std::atomic<int>& n) { return n == 1; }));
+    CHECK(same_bits(one, two));
+  }
 }
 
 TEST_CASE("the decoder gives the same mesh on 1 and 2 threads: decode, decode_into and the streaming Decoder", "[codec]") {
@@ -488,13 +510,48 @@ TEST_CASE("the decoder gives the same mesh on 1 and 2 threads: decode, decode_in
             CHECK(same_result(into, reference));
             decode_into(file, two, into);  // its arrays lent again
             CHECK(same_result(into, reference));
+            // Fed in 97-byte pieces, asked for its mesh halfway (against decode() of that many
+            // bytes on one thread) and at the end.
             Decoder streaming(two);
             const std::span<const std::uint8_t> prefix = std::span(file).first(bytes);
-            for (std::size_t at = 0; at < prefix.size(); at += 97)
-              streaming.push(prefix.subspan(at, std::min<std::size_t>(97, prefix.size() - at)));
+            for (std::size_t at = 0; at < prefix.size(); at += 97) {
+              const std::size_t n = std::min<std::size_t>(97, prefix.size() - at);
+              streaming.push(prefix.subspan(at, n));
+              if (at / 97 == prefix.size() / 194) {
+                DecodeOptions halfway = one;
+                halfway.max_bytes = at + n;
+                CHECK(same_result(streaming.mesh(), decode(file, halfway)));
+              }
+            }
             CHECK(same_result(streaming.mesh(), reference));
           }
         }
+      }
+    }
+  }
+}
+
+TEST_CASE("a large file decodes to the same mesh on 1 and 2 threads, whole and cut", "[codec]") {
+  // 163,842 vertices: each thread's half of the finest levels spans many blocks, and threads = 0
+  // takes two on a machine with two cores (above kConcurrentDecodeVertices).
+  SemiRegularMesh m = refine_linear(test::icosahedron(), 7);
+  const std::vector<double> noise = test::random_values(m.positions.size(), 17);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) m.positions[i] *= 1 + 0.02 * noise[i];
+  REQUIRE(m.hierarchy.vertex_count(7) >= DecodeOptions::kConcurrentDecodeVertices);
+  for (const Scheme scheme : {Scheme::butterfly, Scheme::loop}) {
+    EncodeOptions o;
+    o.scheme = scheme;
+    const std::vector<std::uint8_t> file = encode(m, o);
+    for (const std::size_t bytes : {file.size() / 5, file.size()}) {
+      INFO("scheme " << static_cast<int>(scheme) << ", " << bytes << " bytes");
+      DecodeOptions options;
+      options.max_bytes = bytes;
+      options.threads = 1;
+      const DecodeResult reference = decode(file, options);
+      REQUIRE(reference.status == Status::ok);
+      for (const unsigned threads : {2u, 0u}) {
+        options.threads = threads;
+        CHECK(same_result(decode(file, options), reference));
       }
     }
   }

@@ -86,7 +86,9 @@ struct DecodeOptions {
   /// Threads the decoder may use: 1 for the caller's alone, N >= 2 for two (the output's faces
   /// made while the coefficients are decoded, each level's synthesis split between them), 0 for
   /// that on a machine with more than one core and an output of kConcurrentDecodeVertices or
-  /// more. The decoded mesh never depends on it.
+  /// more. The decoded mesh and the status never depend on it (but for running out of memory:
+  /// two threads hold the output's faces longer, docs/RESULTS.md "Decoding on two threads"). The
+  /// streaming Decoder has a thread of its own for the coefficients besides these.
   unsigned threads = 0;
   static constexpr std::uint32_t kConcurrentDecodeVertices = 1u << 15;
 };
