@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 
+#include "adjacency.h"
 #include "vec3.h"
 
 namespace meshlift {
@@ -149,12 +150,7 @@ std::vector<std::array<std::uint32_t, 2>> self_intersections(const TriangleMesh&
 
 std::vector<std::uint8_t> faces_near_marked(const TriangleMesh& mesh, const std::vector<std::uint8_t>& marked, int rings) {
   // Rings grown a corner at a time: a face reached joins the ring, and its corners the next front.
-  const std::size_t V = mesh.positions.size() / 3;
-  std::vector<std::uint32_t> offsets(V + 1, 0), faces(mesh.triangles.size());  // faces at each vertex
-  for (const std::uint32_t v : mesh.triangles) ++offsets[v + 1];
-  for (std::size_t v = 0; v < V; ++v) offsets[v + 1] += offsets[v];
-  std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) faces[fill[mesh.triangles[k]]++] = static_cast<std::uint32_t>(k / 3);
+  const Adjacency adjacency(static_cast<std::uint32_t>(mesh.positions.size() / 3), mesh.triangles);
   std::vector<std::uint8_t> near(mesh.face_count(), 0), reached(marked.begin(), marked.end());
   std::vector<std::uint32_t> front;
   for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
@@ -164,8 +160,10 @@ std::vector<std::uint8_t> faces_near_marked(const TriangleMesh& mesh, const std:
     for (const std::uint32_t f : front)
       for (int i = 0; i < 3; ++i) {
         const std::uint32_t v = mesh.triangles[3 * std::size_t{f} + static_cast<std::size_t>(i)];
-        for (std::uint32_t k = offsets[v]; k < offsets[v + 1]; ++k)
-          if (!reached[faces[k]]) reached[faces[k]] = near[faces[k]] = 1, next.push_back(faces[k]);
+        for (std::uint32_t k = adjacency.face_offsets[v]; k < adjacency.face_offsets[v + 1]; ++k) {
+          const std::uint32_t g = adjacency.faces[k];
+          if (!reached[g]) reached[g] = near[g] = 1, next.push_back(g);
+        }
       }
     front = std::move(next);
   }
