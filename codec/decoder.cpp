@@ -200,19 +200,19 @@ int output_level(const DecodeOptions& options, int levels) {
   return options.max_level < 0 ? levels : std::min(options.max_level, levels);
 }
 
-/// Whether a decode whose output has `vertices` vertices runs on two threads (DecodeOptions::threads).
-bool concurrent_decode(const DecodeOptions& options, std::uint32_t vertices) {
-  return options.threads == 0
-             ? std::thread::hardware_concurrency() > 1 && vertices >= DecodeOptions::kConcurrentDecodeVertices
-             : options.threads > 1;
+/// Whether a decode of hierarchy `h` to its output level runs on two threads (DecodeOptions::threads).
+bool concurrent_decode(const DecodeOptions& options, const SemiRegularHierarchy& h) {
+  return options.threads == 0 ? std::thread::hardware_concurrency() > 1 &&
+                                    h.vertex_count(output_level(options, h.levels())) >= DecodeOptions::kConcurrentDecodeVertices
+                              : options.threads > 1;
 }
 
-/// The faces of `level`, for a decode that makes them on a second thread while the first decodes
-/// the coefficients (into `storage`'s array where a caller lent one).
-std::vector<std::uint32_t> output_faces(const SemiRegularHierarchy& h, int level, Storage* storage) {
+/// The faces of the output level, for a decode that makes them on a second thread while the first
+/// decodes the coefficients (into `storage`'s array where a caller lent one).
+std::vector<std::uint32_t> output_faces(const SemiRegularHierarchy& h, const DecodeOptions& options, Storage* storage) {
   std::vector<std::uint32_t> faces;
   if (storage != nullptr) faces = std::move(storage->faces);
-  h.copy_triangles(level, faces);
+  h.copy_triangles(output_level(options, h.levels()), faces);
   return faces;
 }
 
@@ -281,7 +281,7 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   DecodeResult result;
   result.levels = L;
   result.level = output_level(options, L);
-  const bool concurrent = concurrent_decode(options, h.vertex_count(result.level));
+  const bool concurrent = concurrent_decode(options, h);
   // Level by level (synthesize_level: at most one level's stencil tables in memory at once, for
   // Loop a block of them). With local frames, the details of level j + 1 are in the frames of
   // the level-j mesh just synthesized (encoder.cpp computes them from the same values at full
@@ -369,8 +369,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
     // dequantization: the faces are then held during the synthesis (peak memory measured in
     // docs/RESULTS.md).
     const SemiRegularHierarchy& h = *p.hierarchy;
-    const int level = output_level(options, p.header.levels);
-    const bool concurrent = concurrent_decode(options, h.vertex_count(level));
+    const bool concurrent = concurrent_decode(options, h);
     std::vector<std::uint32_t> faces;
     {
       const zerotree::Forest forest(h);  // freed before the values are made (on one thread)
@@ -383,7 +382,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
           [&] {
             if (!concurrent) return;
             try {
-              faces = output_faces(h, level, storage);
+              faces = output_faces(h, options, storage);
               assign_large(values, std::size_t{h.vertex_count(p.header.levels)} * static_cast<std::size_t>(p.components()));
             } catch (...) {
               allocation_failed = std::current_exception();
@@ -588,11 +587,10 @@ struct Decoder::State final : ByteSource {
           if (storage != nullptr) values = std::move(storage->positions);
           // On two threads, the output's faces beside the dequantization (the worker waits).
           const SemiRegularHierarchy& h = *prepared.hierarchy;
-          const int level = output_level(options, prepared.header.levels);
-          const bool concurrent = concurrent_decode(options, h.vertex_count(level));
+          const bool concurrent = concurrent_decode(options, h);
           std::vector<std::uint32_t> faces;
           run_both(
-              concurrent, [&] { if (concurrent) faces = output_faces(h, level, storage); },
+              concurrent, [&] { if (concurrent) faces = output_faces(h, options, storage); },
               [&] { dequantize(prepared, decoded, values); });
           const Progress progress{decoded.last_plane, finished && decoded.complete, base_decoded, prefix().size(),
                                   stream.container.truncated()};
