@@ -405,6 +405,26 @@ TEST_CASE("the two-thread encoder's queue of decisions wraps many times and give
   CHECK(encode(m, o) == one);
 }
 
+namespace {
+
+/// Synthesizes level `level` of `one` on one thread and of `two` on two (synthesize_level), and
+/// checks that the second hands each odd vertex of the level to before_odd exactly once.
+void synthesize_level_both_ways(const SemiRegularHierarchy& h, WaveletOptions options, int level, std::vector<double>& one,
+                                std::vector<double>& two, int channels) {
+  const std::uint32_t first = h.vertex_count(level), last = h.vertex_count(level + 1);
+  std::vector<std::atomic<int>> handed(last - first);
+  synthesize_level(h, options, level, one, channels);
+  synthesize_level(
+      h, options, level, two, channels,
+      [&](std::uint32_t begin, std::uint32_t count) {
+        for (std::uint32_t v = begin; v < begin + count; ++v) ++handed[v - first];
+      },
+      true);
+  CHECK(std::all_of(handed.begin(), handed.end(), [](const std::atomic<int>& n) { return n == 1; }));
+}
+
+}  // namespace
+
 TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each odd vertex over once", "[lifting]") {
   // The block paths split between the threads (Loop; linear and butterfly without the update),
   // and the others, which run on one whatever is asked; a boundary (the disk) and extraordinary
@@ -420,18 +440,7 @@ TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each
         std::vector<double> one(noise.begin(), noise.end());
         one.resize(std::size_t{m.hierarchy.vertex_count(4)} * static_cast<std::size_t>(channels), 0.25);
         std::vector<double> two = one;
-        for (int level = 0; level < 4; ++level) {
-          const std::uint32_t first = m.hierarchy.vertex_count(level), last = m.hierarchy.vertex_count(level + 1);
-          std::vector<std::atomic<int>> handed(last - first);
-          synthesize_level(m.hierarchy, options, level, one, channels);
-          synthesize_level(
-              m.hierarchy, options, level, two, channels,
-              [&](std::uint32_t begin, std::uint32_t count) {
-                for (std::uint32_t v = begin; v < begin + count; ++v) ++handed[v - first];
-              },
-              true);
-          CHECK(std::all_of(handed.begin(), handed.end(), [](const std::atomic<int>& n) { return n == 1; }));
-        }
+        for (int level = 0; level < 4; ++level) synthesize_level_both_ways(m.hierarchy, options, level, one, two, channels);
         CHECK(same_bits(one, two));
       }
     }
@@ -446,16 +455,7 @@ TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each
     INFO("large, scheme " << static_cast<int>(options.scheme));
     std::vector<double> one(large_noise.begin(), large_noise.end());
     std::vector<double> two = one;
-    const std::uint32_t first = large.hierarchy.vertex_count(6), last = large.hierarchy.vertex_count(7);
-    std::vector<std::atomic<int>> handed(last - first);
-    synthesize_level(large.hierarchy, options, 6, one, 3);
-    synthesize_level(
-        large.hierarchy, options, 6, two, 3,
-        [&](std::uint32_t begin, std::uint32_t count) {
-          for (std::uint32_t v = begin; v < begin + count; ++v) ++handed[v - first];
-        },
-        true);
-    CHECK(std::all_of(handed.begin(), handed.end(), [](const std::atomic<int>& n) { return n == 1; }));
+    synthesize_level_both_ways(large.hierarchy, options, 6, one, two, 3);
     CHECK(same_bits(one, two));
   }
 }
