@@ -10,6 +10,7 @@
 #include "meshlift/mesh_io.h"
 #include "meshlift/metric.h"
 #include "meshlift/remesh.h"
+#include "meshlift/surface_fit.h"
 #include "test_meshes.h"
 
 using namespace meshlift;
@@ -34,7 +35,8 @@ std::ptrdiff_t count(const RemeshResult& r, const std::string& stage) {
 RemeshResult remesh_refined(const TriangleMesh& input, const RemeshOptions& options) {
   RemeshResult r = remesh(input, options);
   CHECK(r.input_refined);
-  const SemiRegularMesh refined = refine_linear(input, options.levels);
+  SemiRegularMesh refined = refine_linear(input, options.levels);
+  for (double& x : refined.positions) x = static_cast<float>(x);  // a remesh's positions are floats (remesh.h)
   CHECK(r.mesh.positions == refined.positions);
   CHECK(r.mesh.hierarchy.triangles(options.levels) == refined.hierarchy.triangles(options.levels));
   CHECK(r.flipped_triangles + r.degenerate_triangles == 0);
@@ -63,6 +65,11 @@ TEST_CASE("Remeshing a smooth closed surface gives a close semi-regular mesh wit
   CHECK(result.base_vertices == h.vertex_count(0));
   CHECK(result.flipped_triangles == 0);
   CHECK(result.degenerate_triangles == 0);
+  // Its positions are what a mesh file stores (32-bit floats), so the counts above are the file's.
+  CHECK(std::all_of(result.mesh.positions.begin(), result.mesh.positions.end(),
+                    [](double x) { return static_cast<float>(x) == x; }));
+  const FoldOvers recounted = find_fold_overs(result.mesh.finest(), SurfaceQuery(input));
+  CHECK(recounted.flipped.size() + recounted.degenerate.size() == 0);
   // The output is in level order: its hierarchy comes back from the file alone.
   const auto again = recover_level_ordered(result.mesh.finest());
   REQUIRE(again.has_value());
@@ -90,7 +97,8 @@ TEST_CASE("A base that keeps half the input's vertices or more is the input, ref
   CHECK(r.base_vertices == 12);
   CHECK(count(r, "the input refined") == 1);
   CHECK(count(r, "place and compare") == 0);
-  CHECK(surface_distance(ico, r.mesh.finest()).rms_relative() < 1e-12);
+  // On the input but for the rounding of the midpoints to floats (2^-24 of a coordinate at most).
+  CHECK(surface_distance(ico, r.mesh.finest()).rms_relative() < 1e-7);
   // A torus of 48 vertices, asked for all of them: the input. Asked for half: what was asked.
   const TriangleMesh torus = test::torus();
   options.base_vertices = 48;
@@ -246,7 +254,7 @@ TEST_CASE("A small CAD input whose remesh folds is refined as it is instead", "[
   CHECK(result.flipped_triangles == 0);
   CHECK(result.degenerate_triangles == 0);
   CHECK(result.mesh.hierarchy.vertex_count(3) > options.input_refinement_vertices);
-  CHECK(surface_distance(input, result.mesh.finest()).psnr_db() > 200);
+  CHECK(surface_distance(input, result.mesh.finest()).psnr_db() > 140);  // 165.6: the midpoints rounded to floats
   options.input_refinement_vertices = 0;  // off: the failed remesh, as before
   const RemeshResult before = remesh(input, options);
   CHECK_FALSE(before.input_refined);

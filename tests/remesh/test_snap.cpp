@@ -1,4 +1,5 @@
 // Snapping a remesh onto the input's corners and creases (snap.h), and --snap in the pipeline.
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -138,4 +139,7 @@ TEST_CASE("snap: the sphere method's remesh is snapped too", "[remesh][snap]") {
   CHECK(snapped.snapped_to_vertices > 0);
   CHECK(snapped_db > plain_db + 1);
   CHECK(snapped.flipped_triangles + snapped.degenerate_triangles <= plain.flipped_triangles + plain.degenerate_triangles);
+  // Positions as a mesh file stores them (32-bit floats: remesh.h), snapped or not.
+  for (const RemeshResult* r : {&plain, &snapped})
+    CHECK(std::all_of(r->mesh.positions.begin(), r->mesh.positions.end(), [](double x) { return static_cast<float>(x) == x; }));
 }

@@ -177,6 +177,9 @@ inline constexpr double kDenserAutoDensities[] = {6, 8};
 inline constexpr double kSparserAutoDensities[] = {1, 1.5};
 
 struct RemeshResult {
+  /// The remesh. Unless the input was taken over as it is (`recognized`), its positions are
+  /// 32-bit floats (each double holds a float's value): what a mesh file stores (mesh_io.h), so
+  /// that the figures below are those of the file written.
   SemiRegularMesh mesh;
   /// The density the base was sized for (RemeshOptions::density, or the automatic choice); 0
   /// when the base size was given or the input was taken over or remeshed through the sphere.
