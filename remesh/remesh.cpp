@@ -138,7 +138,7 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// vertex free) and its result is rounded in turn. Made on the chosen remesh only: the choices
 /// before it (densities, missing parts) are made on the double positions, as before; rounding
 /// every candidate instead changed them (turbine at L = 4: 80.4 -> 56.8 dB, its missing parts
-/// no longer kept).
+/// no longer kept), and so does a remesh of a level fewer refined from rounded positions (below).
 void store_as_float(RemeshResult& result, const SurfaceQuery& surface) {
   SemiRegularMesh& mesh = result.mesh;
   auto count = [](const FoldOvers& f) { return f.flipped.size() + f.degenerate.size(); };
@@ -483,7 +483,11 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double d
   return base_for_density(mesh.vertex_count(), levels, density, automatic_base_vertices(mesh, levels));
 }
 
-RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
+/// remesh(), and with `as_stored` false its result left in double: the remesh of a level fewer
+/// that a deep hierarchy refines once more (RemeshOptions::level_by_level_from) goes on from
+/// the positions it chose among, as before store_as_float() (rounded there, cow's remesh of 5
+/// levels went from 0 folded faces to 4).
+static RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options, bool as_stored) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
   if (options.missing_part_rounds < 0 || !(options.missing_part_distance >= 0))
     throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
@@ -591,7 +595,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
   };
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);
-    store_as_float(result, surface);
+    if (as_stored) store_as_float(result, surface);
     note_crossings(result);
     report(1);
     return result;
@@ -818,7 +822,7 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     coarser.recognize = false;
     coarser.snap = false;  // at the finest level only
     coarser.progress = [&](double f) { report(deeper_share * 0.5 * f); };
-    RemeshResult above = remesh(mesh, coarser);
+    RemeshResult above = remesh(mesh, coarser, false);
     if (over_floor_base) above.density = options.density;  // not 0 (a size given)
     // This level's base too: the size given, one at the decimation's floor (above its target),
     // or a target this level shares (the topology's floor, automatic_base_vertices()).
@@ -1074,10 +1078,12 @@ RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) {
     if (sphere_closer) result = std::move(sphere);
     result.stage_seconds = std::move(stages);
   }
-  store_as_float(result, surface);
+  if (as_stored) store_as_float(result, surface);
   note_crossings(result);
   report(1);
   return result;
 }
+
+RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) { return remesh(mesh, options, true); }
 
 }  // namespace meshlift
