@@ -148,8 +148,24 @@ int main(int argc, char** argv) {
     const Timing t = best_of(runs, [&] { same = encode(ordered, {}); });
     print_timing("encode, canonical input", t, V, same == file ? "(the same bytes)" : "(BYTES DIFFER)");
   }
-
   const std::size_t two_bpv = static_cast<std::size_t>(2 * V / 8);
+  {
+    // To a budget of 2 bits per vertex, the rate of the decode lines below: the bit planes stop
+    // past the coefficient chunk the cut falls in (encoder.cpp), and the file is the whole one
+    // cut there.
+    std::vector<std::uint8_t> expected;
+    truncate_file(file, two_bpv - container::kChecksumBytes, expected);
+    for (const unsigned threads : {0u, 1u}) {
+      EncodeOptions budget;
+      budget.max_bytes = two_bpv;
+      budget.threads = threads;
+      std::vector<std::uint8_t> cut;
+      const Timing t = best_of(runs, [&] { cut = encode(mesh, budget); });
+      print_timing(threads == 1 ? "encode to 2 bpv, 1 thread" : "encode to 2 bpv", t, V,
+                   cut == expected ? "(the whole file cut there)" : "(BYTES DIFFER)");
+    }
+  }
+
   Timing whole_file;
   std::string output_hashes;
   auto add_hash = [&output_hashes](const std::string& what, std::uint64_t hash) {

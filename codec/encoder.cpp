@@ -454,10 +454,17 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
                           ? base_values::choose_base_plane(h.topology(0), q, header.top_plane)
                           : header.top_plane + 1;
 
-  // The base part, then the bit planes (FORMAT.md §5).
+  // The base part, then the bit planes (FORMAT.md §5). With a budget the planes stop once the
+  // coefficient bytes emitted pass the end of the chunk the file's cut falls in (the file's
+  // first max_bytes bytes hold fewer coefficient bytes than that): those chunks are then the
+  // whole stream's, byte for byte and at the same sizes, and so is the file truncate_file()
+  // makes of them below, without the planes past the cut.
+  std::size_t stop_after = std::numeric_limits<std::size_t>::max();
+  if (options.max_bytes < stop_after - 2 * kCoefficientChunkBytes)
+    stop_after = (options.max_bytes / kCoefficientChunkBytes + 1) * kCoefficientChunkBytes;
   RangeEncoder coefficient_encoder;
   base_values::encode(h.topology(0), q, header.base_plane, header.top_plane, coefficient_encoder);
-  zerotree::encode(*forest, q, header.top_plane, header.base_plane, coefficient_encoder, concurrent);
+  zerotree::encode(*forest, q, header.top_plane, header.base_plane, coefficient_encoder, concurrent, stop_after);
   const std::vector<std::uint8_t> coefficients = coefficient_encoder.finish();
 
   ContainerWriter writer;

@@ -465,13 +465,18 @@ class DecisionQueue {
 
   DecisionQueue() : decisions_(std::make_unique_for_overwrite<std::uint16_t[]>(kSlots * kSlotSize)) {}
 
-  // Writer side.
-  void push(std::uint16_t decision) {
+  // Writer side. push() returns false once the reader has asked the writer to stop (seen when
+  // a slot is handed over): the decisions pushed are still coded.
+  bool push(std::uint16_t decision) {
     slot_[size_++] = decision;
     if (size_ == kSlotSize) hand_over(false);
+    return !stop_;
   }
   /// The last slot, however full: the reader stops after it.
   void finish() { hand_over(true); }
+
+  /// Reader side: asks the writer to stop (it still reads every slot up to the last).
+  void ask_to_stop() { stop_asked_.store(true, std::memory_order_relaxed); }
 
   // Reader side: calls code(decision) for every decision in order, until the last slot.
   template <class Code>
@@ -496,6 +501,7 @@ class DecisionQueue {
     written_.store(++slots_written_, std::memory_order_release);
     written_.notify_one();
     if (last) return;
+    stop_ = stop_asked_.load(std::memory_order_relaxed);
     // The next slot once the reader is done with it.
     std::uint64_t done;
     while (slots_written_ - (done = read_.load(std::memory_order_acquire)) >= kSlots) read_.wait(done, std::memory_order_acquire);
@@ -509,10 +515,12 @@ class DecisionQueue {
   // with every push: a line the reader writes too would move between the cores each time).
   alignas(64) std::atomic<std::uint64_t> written_{0};  // slots handed over
   alignas(64) std::atomic<std::uint64_t> read_{0};     // slots coded
+  std::atomic<bool> stop_asked_{false};
   // The writer's own.
   alignas(64) std::uint16_t* slot_ = decisions_.get();
   std::size_t size_ = 0;
   std::uint64_t slots_written_ = 0;
+  bool stop_ = false;  // stop_asked_ as of the last slot handed over
 };
 
 class EncoderIo {
@@ -523,10 +531,13 @@ class EncoderIo {
   /// every decision with `encoder`, or, given a queue, writes it there as the index of its model
   /// among `models` (the passes' own) and its bit; with a queue (two threads) the widths of a
   /// large level are filled in two halves side by side.
-  EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder, DecisionQueue* queue = nullptr,
-            Models* models = nullptr)
+  /// Stops (bit() returns -1, as a decoder's does at the end of its bytes) once `encoder` has
+  /// emitted more than `stop_after` bytes, or, with a queue, once its reader asks.
+  EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder, std::size_t stop_after,
+            DecisionQueue* queue = nullptr, Models* models = nullptr)
       : coefficients_(q.coefficients.get()),
         encoder_(&encoder),
+        stop_after_(stop_after),
         queue_(queue),
         models_(models),
         k_(static_cast<std::size_t>(q.components)) {
@@ -537,10 +548,12 @@ class EncoderIo {
   }
   void begin_plane(int) {}
   int bit(BitModel& m, bool value) {
-    if (queue_ != nullptr)
-      queue_->push(static_cast<std::uint16_t>(models_->index(m) << 1 | (value ? 1 : 0)));
-    else
+    if (queue_ != nullptr) {
+      if (!queue_->push(static_cast<std::uint16_t>(models_->index(m) << 1 | (value ? 1 : 0)))) return -1;
+    } else {
+      if (encoder_->bytes_final() > stop_after_) return -1;
       encoder_->encode(m, value ? 1 : 0);
+    }
     return value ? 1 : 0;
   }
   void prefetch(std::uint32_t v, int c) const { __builtin_prefetch(&coefficients_[index(v, c)]); }
@@ -595,6 +608,7 @@ class EncoderIo {
   std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
   Coefficient* coefficients_;
   RangeEncoder* encoder_;
+  std::size_t stop_after_;
   DecisionQueue* queue_;
   const Models* models_;
   std::size_t k_;
@@ -624,11 +638,12 @@ class DecoderIo {
 
 }  // namespace
 
-void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEncoder& encoder, bool concurrent) {
+bool encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEncoder& encoder, bool concurrent,
+            std::size_t stop_after) {
   if (q.components < 1 || q.components > kMaxComponents) throw std::invalid_argument("zerotree: bad component count");
   if (q.size != std::size_t{forest.vertex_count()} * static_cast<std::size_t>(q.components))
     throw std::invalid_argument("zerotree: the coefficients are not the forest's vertices times the components");
-  if (top < 0) return;
+  if (top < 0) return true;
   std::vector<SignificantList> significant;
   std::vector<ComponentLists> lists;
   significant.reserve(static_cast<std::size_t>(q.components));
@@ -639,17 +654,23 @@ void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
     // The coder's models start as the passes' do and see the same decisions in the same order,
     // so each holds at every decision the probability it would hold on one thread.
     DecisionQueue queue;
+    bool complete = false;
     const bool ran = try_run_both(
         [&] {
           Models coded;
           // Every decision is read (the writer waits for free slots), even after a failure here.
           std::exception_ptr failure;
+          bool asked = false;
           queue.read([&](std::uint16_t d) {
             if (!failure) try {
                 encoder.encode(coded[d >> 1], d & 1);
               } catch (...) {
                 failure = std::current_exception();
               }
+            if (!asked && encoder.bytes_final() > stop_after) {
+              queue.ask_to_stop();
+              asked = true;
+            }
           });
           if (failure) std::rethrow_exception(failure);
         },
@@ -658,13 +679,13 @@ void encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
             DecisionQueue& queue;
             ~Finish() { queue.finish(); }  // also if the passes throw: the reader must not wait forever
           } finish{queue};
-          EncoderIo io(forest, q, encoder, &queue, &models);
-          run(forest, q.components, top, base_plane, nullptr, io, lists, models);
+          EncoderIo io(forest, q, encoder, stop_after, &queue, &models);
+          complete = run(forest, q.components, top, base_plane, nullptr, io, lists, models);
         });
-    if (ran) return;  // else no thread could be started: on this one
+    if (ran) return complete;  // else no thread could be started: on this one
   }
-  EncoderIo io(forest, q, encoder);
-  run(forest, q.components, top, base_plane, nullptr, io, lists, models);
+  EncoderIo io(forest, q, encoder, stop_after);
+  return run(forest, q.components, top, base_plane, nullptr, io, lists, models);
 }
 
 Decoded decode(const Forest& forest, int components, int top, int base_plane, std::span<const std::int64_t> base_high,

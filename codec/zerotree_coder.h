@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -90,8 +91,12 @@ int top_plane(const Quantized& q);
 /// `concurrent`: the passes, which decide every bit from the magnitudes alone, run on the
 /// caller's thread while a second thread range-codes their decisions as they come (a queue of
 /// model indices and bits between them); the same bytes as on one thread.
-void encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder,
-            bool concurrent = false);
+/// `stop_after`: the passes may stop once the encoder has emitted more than this many bytes
+/// (RangeEncoder::bytes_final()); its stream is then a prefix of the whole one but for its last
+/// few bytes, and every byte up to stop_after the same (on two threads they stop up to a queue
+/// slot of decisions later). Returns whether every plane was coded.
+bool encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder,
+            bool concurrent = false, std::size_t stop_after = std::numeric_limits<std::size_t>::max());
 
 /// SPIHT's list of significant coefficients (LSP) of one component, in the order they became
 /// significant, as parallel arrays of capacity `capacity` (pages become resident as they fill):

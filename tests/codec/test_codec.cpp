@@ -164,6 +164,38 @@ TEST_CASE("encode to a byte budget gives a file within it", "[codec]") {
   CHECK_THROWS_AS(encode(mesh, options), MeshError);
 }
 
+TEST_CASE("encode to a byte budget stops its planes early and gives the whole file cut", "[codec]") {
+  // A stream of several coefficient chunks (64 KiB each), so that budgets fall in the first,
+  // a middle and the last one. encode() with a budget stops coding past the chunk the cut falls
+  // in (encoder.cpp); its file must be the whole file's cut at the same place, on 1 and 2 threads.
+  SemiRegularMesh mesh = bumpy(test::icosahedron(), 6);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> noise(-1e-2, 1e-2);  // rough: details at every level
+  for (double& x : mesh.positions) x += noise(rng);
+  EncodeOptions options;
+  options.precision_bits = 20;
+  options.threads = 1;
+  const std::vector<std::uint8_t> whole = encode(mesh, options);
+  INFO("whole file " << whole.size() << " bytes");
+  REQUIRE(whole.size() > 3 * 65536);
+  for (const unsigned threads : {1u, 2u})
+    for (const std::size_t budget : {std::size_t{2000}, std::size_t{65536}, std::size_t{100000}, std::size_t{131072 + 17},
+                                     whole.size() / 2, whole.size() - 70000, whole.size() - 1, whole.size(), whole.size() + 5}) {
+      INFO(threads << " threads, budget " << budget);
+      options.threads = threads;
+      options.max_bytes = budget;
+      const std::vector<std::uint8_t> file = encode(mesh, options);
+      CHECK(file.size() <= budget);
+      if (budget >= whole.size()) {
+        CHECK(file == whole);
+        continue;
+      }
+      std::vector<std::uint8_t> cut;
+      REQUIRE(truncate_file(whole, budget - container::kChecksumBytes, cut) == Status::ok);
+      CHECK(file == cut);
+    }
+}
+
 TEST_CASE("streaming decoder: random chunk sizes give the prefix decodes", "[codec][stream]") {
   const SemiRegularMesh mesh = bumpy(test::icosahedron(), 3);
   const auto file = encode(mesh, {});

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -15,6 +16,46 @@
 #include "test_meshes.h"
 
 using namespace meshlift;
+
+TEST_CASE("zerotree: an encode told to stop after some bytes codes fewer planes, its first bytes the whole stream's",
+          "[codec][zerotree]") {
+  const SemiRegularMesh mesh = refine_linear(test::icosahedron(), 6);
+  const zerotree::Forest forest(mesh.hierarchy);
+  zerotree::Quantized q;
+  q.allocate(std::size_t{forest.vertex_count()} * 3);
+  std::mt19937 rng(7);
+  std::geometric_distribution<std::uint32_t> magnitude(0.002);
+  for (std::size_t i = 0; i < q.size; ++i) q.coefficients[i] = {magnitude(rng), (rng() & 1) != 0, 0, 0};
+  const int top = zerotree::top_plane(q);
+  auto coded = [&](bool concurrent, std::size_t stop_after, bool& complete) {
+    zerotree::Quantized copy;  // encode() fills in the widths
+    copy.allocate(q.size);
+    std::copy_n(q.coefficients.get(), q.size, copy.coefficients.get());
+    RangeEncoder encoder;
+    complete = zerotree::encode(forest, copy, top, top + 1, encoder, concurrent, stop_after);
+    return encoder.finish();
+  };
+  bool complete = false;
+  const std::vector<std::uint8_t> whole = coded(false, std::numeric_limits<std::size_t>::max(), complete);
+  CHECK(complete);
+  REQUIRE(whole.size() > 100000);
+  for (const bool concurrent : {false, true}) {
+    for (const std::size_t stop_after : {std::size_t{0}, std::size_t{1000}, whole.size() / 2}) {
+      INFO((concurrent ? "two threads" : "one thread") << ", stop after " << stop_after << " of " << whole.size());
+      const std::vector<std::uint8_t> part = coded(concurrent, stop_after, complete);
+      CHECK_FALSE(complete);
+      CHECK(part.size() > stop_after);
+      // Far short of the whole: one thread stops at the byte, two within the decisions in flight
+      // between them (the queue's 8 slots of 2^15: 30 KB here).
+      CHECK(part.size() < stop_after + (concurrent ? 65536 : 16));
+      REQUIRE(part.size() <= whole.size());
+      CHECK(std::equal(part.begin(), part.begin() + static_cast<std::ptrdiff_t>(stop_after), whole.begin()));
+    }
+    const std::vector<std::uint8_t> all = coded(concurrent, whole.size(), complete);
+    CHECK(complete);
+    CHECK(all == whole);
+  }
+}
 
 TEST_CASE("zerotree: every prefix decode lists coefficients known exactly down to the plane it reports",
           "[codec][zerotree]") {

@@ -104,6 +104,10 @@ class RangeEncoder {
   /// Size that finish() would return if called now: the exact cost of everything coded so far.
   std::size_t bytes_so_far() const { return out_.size() + static_cast<std::size_t>(cache_size_) + 4; }
 
+  /// Bytes emitted so far: the first bytes_final() bytes of finish()'s stream, whatever is coded
+  /// after (a carry reaches only the bytes still held back, the cache and its run of 0xFF).
+  std::size_t bytes_final() const { return out_.size(); }
+
  private:
   void normalize() {
     if (range_ < range_coder::kTop) {
