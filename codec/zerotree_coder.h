@@ -93,8 +93,8 @@ int top_plane(const Quantized& q);
 /// model indices and bits between them); the same bytes as on one thread.
 /// `stop_after`: the passes may stop once the encoder has emitted more than this many bytes
 /// (RangeEncoder::bytes_final()); its stream is then a prefix of the whole one but for its last
-/// few bytes, and every byte up to stop_after the same (on two threads they stop up to a queue
-/// slot of decisions later). Returns whether every plane was coded.
+/// few bytes, and every byte up to stop_after the same (on two threads they stop up to the
+/// queue's 8 slots of 2^15 decisions later). Returns whether every plane was coded.
 bool encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder,
             bool concurrent = false, std::size_t stop_after = std::numeric_limits<std::size_t>::max());
 

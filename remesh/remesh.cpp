@@ -135,64 +135,60 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// moves a coordinate by at most 2^-24 of its magnitude, yet it can turn a face whose centroid is
 /// closest to an input vertex or edge: which input face there is the closest (find_fold_overs()'s
 /// reference) is then decided by the last bits of the distances (homer at L = 6: 1 folded face
-/// in double, 4 in its file). Each face rounding folded gets its corners' coordinates rounded
-/// the other way where that folds none of their faces (the first of the 2^9 ways to take, for
-/// each of its 9 coordinates, one of the two floats around it); what is left is untangled once
-/// more (every vertex free) and rounded again. Made on the chosen remesh only: the choices
-/// before it (densities, missing parts) are made on the double positions, as before; rounding
-/// every candidate instead changed them (turbine at L = 4: 80.4 -> 56.8 dB, its missing parts
-/// no longer kept), and so does a remesh of a level fewer refined from rounded positions (below).
+/// in double, 4 in its file). Each face that folds once rounded but not in double gets its
+/// corners rounded the other way where that folds none of their faces (the first of the 2^9
+/// ways to take, for each of its 9 coordinates, one of the two floats around it); a face no way
+/// mends stays folded, and is counted. Untangling the whole mesh again instead (every vertex
+/// free, feature lines too) left homer at 3. Made on the chosen remesh only: the choices before
+/// it (densities, missing parts) are made on the double positions, as before; rounding every
+/// candidate instead changed them (turbine at L = 4: 80.4 -> 56.8 dB, its missing parts no longer
+/// kept), and so does a remesh of a level fewer refined from rounded positions (remesh_levels()).
 void store_as_float(RemeshResult& result, const SurfaceQuery& surface) {
   SemiRegularMesh& mesh = result.mesh;
   std::vector<double>& x = mesh.positions;
   const std::vector<std::uint32_t>& triangles = mesh.hierarchy.triangles(mesh.hierarchy.levels());
-  const double diagonal = bounding_box_diagonal(x);
-  auto folds = [&](std::span<const double> at, std::uint32_t f) {
-    const std::uint32_t* t = &triangles[3 * std::size_t{f}];
-    return is_degenerate(vec3::face_normal(at, t), diagonal) || faces_away(at, t, surface);
-  };
-  auto count = [](const FoldOvers& f) { return f.flipped.size() + f.degenerate.size(); };
-  const std::size_t before = result.flipped_triangles + result.degenerate_triangles;  // of the double positions
   const std::vector<double> exact = x;
-  auto round = [&] {
-    for (double& c : x) c = static_cast<float>(c);
-    return find_fold_overs(mesh.finest(), surface);
+  for (double& c : x) c = static_cast<float>(c);
+  const double diagonal = bounding_box_diagonal(x);  // find_fold_overs()'s, of the rounded mesh
+  auto folds = [&](std::span<const double> at, std::uint32_t f) {
+    return is_folded(at, &triangles[3 * std::size_t{f}], surface, diagonal);
   };
-  FoldOvers stored = round();
-  if (count(stored) > before) {
+  FoldOvers stored = find_fold_overs(mesh.finest(), surface);
+  std::vector<std::uint32_t> rounding_folded;  // folded once rounded, not in double
+  for (const auto* list : {&stored.flipped, &stored.degenerate})
+    for (const std::uint32_t f : *list)
+      if (!folds(exact, f)) rounding_folded.push_back(f);
+  if (!rounding_folded.empty()) {
     const Adjacency adjacency(mesh.hierarchy.vertex_count(mesh.hierarchy.levels()), triangles);
-    for (const auto* list : {&stored.flipped, &stored.degenerate})
-      for (const std::uint32_t f : *list) {
-        if (folds(exact, f) || !folds(x, f)) continue;  // folded in double too, or mended already
-        const std::uint32_t* t = &triangles[3 * std::size_t{f}];
-        std::vector<std::uint32_t> around;  // the corners' faces that do not fold in double
-        for (int i = 0; i < 3; ++i)
-          for (std::uint32_t k = adjacency.face_offsets[t[i]]; k < adjacency.face_offsets[t[i] + 1]; ++k)
-            if (const std::uint32_t g = adjacency.faces[k];
-                std::find(around.begin(), around.end(), g) == around.end() && !folds(exact, g))
-              around.push_back(g);
-        // Coordinate i (0..8) of the face: corner i / 3, axis i % 3; bit i of `other` rounds it
-        // to the float on the other side of its exact value (0: none).
-        auto round_corners = [&](unsigned other) {
-          for (int i = 0; i < 9; ++i) {
-            const std::size_t at = 3 * std::size_t{t[i / 3]} + static_cast<std::size_t>(i % 3);
-            const float nearest = static_cast<float>(exact[at]);
-            const float beyond = std::nextafter(nearest, exact[at] < nearest ? -INFINITY : INFINITY);
-            x[at] = (other >> i & 1) != 0 && nearest != exact[at] ? beyond : nearest;
-          }
-        };
-        unsigned other = 1;
-        for (; other < 512; ++other) {
-          round_corners(other);
-          if (std::none_of(around.begin(), around.end(), [&](std::uint32_t g) { return folds(x, g); })) break;
+    for (const std::uint32_t f : rounding_folded) {
+      if (!folds(x, f)) continue;  // mended with a neighbour
+      const std::uint32_t* t = &triangles[3 * std::size_t{f}];
+      std::vector<std::uint32_t> around;  // the corners' faces (f too) that do not fold in double
+      for (int i = 0; i < 3; ++i)
+        for (std::uint32_t k = adjacency.face_offsets[t[i]]; k < adjacency.face_offsets[t[i] + 1]; ++k)
+          if (const std::uint32_t g = adjacency.faces[k];
+              std::find(around.begin(), around.end(), g) == around.end() && !folds(exact, g))
+            around.push_back(g);
+      // Coordinate i (0..8) of the face: corner i / 3, axis i % 3; bit i of `other` rounds it to
+      // the float on the other side of its exact value.
+      auto at = [&](int i) { return 3 * std::size_t{t[i / 3]} + static_cast<std::size_t>(i % 3); };
+      double before[9];
+      for (int i = 0; i < 9; ++i) before[i] = x[at(i)];  // a corner an earlier face's mend moved, too
+      bool mended = false;
+      for (unsigned other = 1; other < 512 && !mended; ++other) {
+        for (int i = 0; i < 9; ++i) {
+          const double e = exact[at(i)];
+          const float nearest = static_cast<float>(e);
+          const float beyond = std::nextafter(nearest, e < nearest ? -std::numeric_limits<float>::infinity()
+                                                                    : std::numeric_limits<float>::infinity());
+          x[at(i)] = (other >> i & 1) != 0 && nearest != e ? beyond : nearest;
         }
-        if (other == 512) round_corners(0);  // no way: the nearest floats again
+        mended = std::none_of(around.begin(), around.end(), [&](std::uint32_t g) { return folds(x, g); });
       }
-    stored = find_fold_overs(mesh.finest(), surface);
-    if (count(stored) > before) {
-      untangle(mesh, surface);
-      stored = round();
+      if (!mended)
+        for (int i = 0; i < 9; ++i) x[at(i)] = before[i];
     }
+    stored = find_fold_overs(mesh.finest(), surface);
   }
   result.flipped_triangles = stored.flipped.size();
   result.degenerate_triangles = stored.degenerate.size();
@@ -290,7 +286,8 @@ constexpr double kNever = -std::numeric_limits<double>::infinity();
 constexpr double kNowhere = std::numeric_limits<double>::infinity();
 
 /// The input itself as the base, refined `levels` times by midpoint splits: every new vertex on
-/// an input edge or face, so the remesh is the input exactly (RemeshResult::input_refined).
+/// an input edge or face, so the remesh is the input exactly (RemeshResult::input_refined; its
+/// midpoints are then rounded to floats with the rest, store_as_float()).
 /// nullopt where it folds or degenerates somewhere (an input face of zero area refines to
 /// degenerate ones).
 std::optional<RemeshResult> input_refinement(const TriangleMesh& mesh, const SurfaceQuery& surface, int levels) {
@@ -525,11 +522,13 @@ std::size_t automatic_remesh_base(const TriangleMesh& mesh, int levels, double d
   return base_for_density(mesh.vertex_count(), levels, density, automatic_base_vertices(mesh, levels));
 }
 
+namespace {
+
 /// remesh(), and with `as_stored` false its result left in double: the remesh of a level fewer
 /// that a deep hierarchy refines once more (RemeshOptions::level_by_level_from) goes on from
 /// the positions it chose among, as before store_as_float() (rounded there, cow's remesh of 5
 /// levels went from 0 folded faces to 4).
-static RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options, bool as_stored) {
+RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& options, bool as_stored) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
   if (options.missing_part_rounds < 0 || !(options.missing_part_distance >= 0))
     throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
@@ -626,7 +625,7 @@ static RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& option
     const std::vector<std::array<std::uint32_t, 2>>& crossings = *input_crossings;
     result.input_crossing_pairs = crossings.size();
     result.coincident_vertices = checked.duplicate_vertices;
-    result.flipped_near_input_crossings = 0;
+    result.flipped_where_input_crosses = result.flipped_near_input_crossings = 0;  // set by a fold_free() before rounding
     if (result.flipped_triangles == 0 || crossings.empty()) return;
     std::vector<std::uint8_t> crossing(mesh.face_count(), 0);
     for (const auto& [f, g] : crossings) crossing[f] = crossing[g] = 1;
@@ -637,7 +636,11 @@ static RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& option
   };
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);
-    if (as_stored) store_as_float(result, surface);
+    if (as_stored) {
+      StageClock clock(result.stage_seconds);
+      store_as_float(result, surface);
+      clock.lap("store as float");
+    }
     note_crossings(result);
     report(1);
     return result;
@@ -864,7 +867,7 @@ static RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& option
     coarser.recognize = false;
     coarser.snap = false;  // at the finest level only
     coarser.progress = [&](double f) { report(deeper_share * 0.5 * f); };
-    RemeshResult above = remesh(mesh, coarser, false);
+    RemeshResult above = remesh_levels(mesh, coarser, false);
     if (over_floor_base) above.density = options.density;  // not 0 (a size given)
     // This level's base too: the size given, one at the decimation's floor (above its target),
     // or a target this level shares (the topology's floor, automatic_base_vertices()).
@@ -1120,12 +1123,18 @@ static RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& option
     if (sphere_closer) result = std::move(sphere);
     result.stage_seconds = std::move(stages);
   }
-  if (as_stored) store_as_float(result, surface);
+  if (as_stored) {
+    StageClock clock(result.stage_seconds);
+    store_as_float(result, surface);
+    clock.lap("store as float");
+  }
   note_crossings(result);
   report(1);
   return result;
 }
 
-RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) { return remesh(mesh, options, true); }
+}  // namespace
+
+RemeshResult remesh(const TriangleMesh& mesh, const RemeshOptions& options) { return remesh_levels(mesh, options, true); }
 
 }  // namespace meshlift

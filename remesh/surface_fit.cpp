@@ -392,6 +392,11 @@ bool is_degenerate(const std::array<double, 3>& normal, double diagonal) {
   return 0.5 * std::sqrt(dot(normal, normal)) <= 1e-14 * diagonal * diagonal;
 }
 
+bool is_folded(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, double diagonal,
+               std::uint32_t* hint) {
+  return is_degenerate(face_normal(x, t), diagonal) || faces_away(x, t, surface, hint);
+}
+
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface) {
   const double diagonal = bounding_box_diagonal(remeshed.positions);
   enum : std::uint8_t { kGood, kDegenerate, kFlipped };

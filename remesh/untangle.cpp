@@ -425,8 +425,8 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   // diagonal: surface_fit.h) counts as folded too. Counting only faces of zero area, the
   // untangling left alone a face of three corners on one input crease (mannequin-devil at ~16x).
   const double diagonal = bounding_box_diagonal(x);
-  auto is_folded = [&](std::size_t f, std::uint32_t* hint = nullptr) {
-    return is_degenerate(face_normal(x, &triangles[3 * f]), diagonal) || faces_away(x, &triangles[3 * f], surface, hint);
+  auto face_folds = [&](std::size_t f, std::uint32_t* hint = nullptr) {
+    return is_folded(x, &triangles[3 * f], surface, diagonal, hint);
   };
   // Per face, the input face closest to its centroid where known (kNone: not yet), as of the
   // epoch in centroid_epoch (below): the patches' planes read it for the same faces again and again.
@@ -437,7 +437,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     std::uint32_t hint = kNone;  // consecutive faces are neighbours in a semi-regular mesh
     for (std::size_t f = begin; f < end; ++f) {
       if (is_degenerate(face_normal(x, &triangles[3 * f]), diagonal)) {
-        folded[f] = 1;  // as is_folded() counts it, without a query
+        folded[f] = 1;  // as face_folds() counts it, without a query
         continue;
       }
       folded[f] = faces_away(x, &triangles[3 * f], surface, &hint);
@@ -633,7 +633,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
             for (std::size_t i = 0; i < region.size() && after < before; ++i) {
               const std::uint32_t* t = &triangles[3 * std::size_t{region[i]}];
               const bool moved = local[t[0]] != kNone || local[t[1]] != kNone || local[t[2]] != kNone;
-              now[i] = moved ? is_folded(region[i], &hint) : folded[region[i]];
+              now[i] = moved ? face_folds(region[i], &hint) : folded[region[i]];
               after += now[i];
             }
             ++report.patches_tried;
@@ -709,7 +709,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           std::size_t count = 0;
           for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
             std::uint32_t hint = here;
-            count += is_folded(incident[j], &hint);
+            count += face_folds(incident[j], &hint);
           }
           return count;
         };
@@ -794,7 +794,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           moved_at[v] = ++epoch;
           for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
             std::uint32_t hint = here;
-            folded[incident[j]] = is_folded(incident[j], &hint);
+            folded[incident[j]] = face_folds(incident[j], &hint);
           }
         } else {
           vertex_failed_at[v] = epoch;

@@ -115,7 +115,7 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
                  result.feature_edges, result.feature_vertices);
   if (result.input_refined) {
     std::fprintf(stderr,
-                 "%s: the base is the input itself and the remesh its midpoint refinement, on the input exactly (a "
+                 "%s: the base is the input itself and the remesh its midpoint refinement, on the input (a "
                  "small input: a smaller base would keep most of it, or remesh it short of 75 dB)\n",
                  path.c_str());
   } else if (result.method == RemeshMethod::decimate && result.density >= 1 &&

@@ -351,7 +351,7 @@ TEST_CASE("decimate: the vertices it is asked to keep stay in the base", "[decim
   CHECK_THROWS_AS(decimate(input, options), std::invalid_argument);
 }
 
-TEST_CASE("decimate_each: one run gives every target's decimate() result, byte for byte", "[decimate]") {
+TEST_CASE("decimate_each: one run gives every target's decimate() result, byte for byte", "[decimate][heavy]") {
   const TriangleMesh input = icosphere(5, 0.1);  // 10242 vertices
   // Unsorted, repeated, at the input's size and beyond, and below where a 12-vertex floor of
   // tiny collapses would stop (the decimation stops first: the final mesh for both).

@@ -286,7 +286,7 @@ TEST_CASE("Feature lines: a capped cylinder's rims are followed, far closer than
   CHECK(surface_distance(m, deep.mesh.finest()).psnr_db() > without_db + 10);
 }
 
-TEST_CASE("Feature lines with the automatic density: fandisk follows its creases at 1x, turbine goes on without", "[corpus][remesh][features][pipeline]") {
+TEST_CASE("Feature lines with the automatic density: fandisk follows its creases at 1x, turbine goes on without", "[corpus][remesh][features][pipeline][heavy]") {
   // Fandisk's 2x remesh with its lines qualifies (81.9 dB; 76.0 without them), and far within
   // the threshold, and so does its 1.5x one (80.0 dB), so its 1x one is kept (75.3 dB, no fold). Turbine's lines fold its 2x remesh, so it is remeshed as with no lines at all.
   const TriangleMesh fandisk = to_triangle_mesh(read_mesh(test::corpus_mesh_path("fandisk")));

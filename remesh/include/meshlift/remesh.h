@@ -3,7 +3,7 @@
 // interpolation (seed 000), refine L times and move the refined vertices onto the input surface.
 // Where the decimation keeps half the input's vertices or more although fewer were asked for (a
 // small input, at its topology's floor), the base is the input itself and the remesh its
-// midpoint refinement, exact (RemeshResult::input_refined). A deep hierarchy whose base is that
+// midpoint refinement, exact but for the rounding to floats (RemeshResult::input_refined). A deep hierarchy whose base is that
 // of a level fewer is placed a level at a time (RemeshOptions::level_by_level_from).
 #pragma once
 
@@ -194,7 +194,8 @@ struct RemeshResult {
   /// when the input was taken over, refined as it is, or remeshed through the sphere.
   std::size_t target_base_vertices = 0;
   /// True when the base is the input itself and `mesh` its midpoint refinement, on the input
-  /// exactly: a small input (RemeshOptions::input_refinement_vertices, remesh.h's header).
+  /// but for the rounding of its positions to floats (`mesh`): a small input
+  /// (RemeshOptions::input_refinement_vertices, remesh.h's header).
   bool input_refined = false;
   /// Levels placed from the base directly; each level above them was placed on the finished
   /// remesh of the level below (RemeshOptions::level_by_level_from). Equal to the hierarchy's

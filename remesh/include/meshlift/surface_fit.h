@@ -91,4 +91,9 @@ std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std
 bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
                 std::uint32_t* hint = nullptr);
 
+/// find_fold_overs()'s verdict on face t of the xyz array x, in a mesh of bounding-box diagonal
+/// `diagonal`: degenerate (is_degenerate()) or facing away (faces_away(), with its `hint`).
+bool is_folded(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, double diagonal,
+               std::uint32_t* hint = nullptr);
+
 }  // namespace meshlift
