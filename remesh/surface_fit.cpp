@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -415,6 +416,55 @@ FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surf
   for (std::size_t f = 0; f < kind.size(); ++f)
     if (kind[f] != kGood) (kind[f] == kDegenerate ? result.degenerate : result.flipped).push_back(static_cast<std::uint32_t>(f));
   return result;
+}
+
+FoldOvers round_to_float(SemiRegularMesh& mesh, const SurfaceQuery& surface) {
+  std::vector<double>& x = mesh.positions;
+  const std::vector<std::uint32_t>& triangles = mesh.hierarchy.triangles(mesh.hierarchy.levels());
+  const std::vector<double> exact = x;
+  for (double& c : x) c = static_cast<float>(c);
+  const double diagonal = bounding_box_diagonal(x);  // find_fold_overs()'s, of the rounded mesh
+  auto folds = [&](std::span<const double> at, std::uint32_t f) {
+    return is_folded(at, &triangles[3 * std::size_t{f}], surface, diagonal);
+  };
+  FoldOvers stored = find_fold_overs(mesh.finest(), surface);
+  std::vector<std::uint32_t> rounding_folded;  // folded once rounded, not in double
+  for (const auto* list : {&stored.flipped, &stored.degenerate})
+    for (const std::uint32_t f : *list)
+      if (!folds(exact, f)) rounding_folded.push_back(f);
+  if (!rounding_folded.empty()) {
+    const Adjacency adjacency(mesh.hierarchy.vertex_count(mesh.hierarchy.levels()), triangles);
+    for (const std::uint32_t f : rounding_folded) {
+      if (!folds(x, f)) continue;  // mended with a neighbour
+      const std::uint32_t* t = &triangles[3 * std::size_t{f}];
+      std::vector<std::uint32_t> around;  // the corners' faces (f too) that do not fold in double
+      for (int i = 0; i < 3; ++i)
+        for (std::uint32_t k = adjacency.face_offsets[t[i]]; k < adjacency.face_offsets[t[i] + 1]; ++k)
+          if (const std::uint32_t g = adjacency.faces[k];
+              std::find(around.begin(), around.end(), g) == around.end() && !folds(exact, g))
+            around.push_back(g);
+      // Coordinate i (0..8) of the face: corner i / 3, axis i % 3; bit i of `other` rounds it to
+      // the float on the other side of its exact value.
+      auto at = [&](int i) { return 3 * std::size_t{t[i / 3]} + static_cast<std::size_t>(i % 3); };
+      double before[9];
+      for (int i = 0; i < 9; ++i) before[i] = x[at(i)];  // a corner an earlier face's mend moved, too
+      bool mended = false;
+      for (unsigned other = 1; other < 512 && !mended; ++other) {
+        for (int i = 0; i < 9; ++i) {
+          const double e = exact[at(i)];
+          const float nearest = static_cast<float>(e);
+          const float beyond = std::nextafter(nearest, e < nearest ? -std::numeric_limits<float>::infinity()
+                                                                    : std::numeric_limits<float>::infinity());
+          x[at(i)] = (other >> i & 1) != 0 && nearest != e ? beyond : nearest;
+        }
+        mended = std::none_of(around.begin(), around.end(), [&](std::uint32_t g) { return folds(x, g); });
+      }
+      if (!mended)
+        for (int i = 0; i < 9; ++i) x[at(i)] = before[i];
+    }
+    stored = find_fold_overs(mesh.finest(), surface);
+  }
+  return stored;
 }
 
 }  // namespace meshlift

@@ -187,3 +187,41 @@ TEST_CASE("count_at_crossings counts the flipped faces whose closest input face 
   crossing[0] = crossing[40] = 0;  // every other face marked: none under the flipped ones
   CHECK(count_at_crossings(remeshed, folds.flipped, surface, crossing) == 0);
 }
+
+TEST_CASE("round_to_float mends a face that rounding turns to the other wall of a groove", "[remesh][surface_fit]") {
+  // A narrow groove along the x axis: two walls whose normals face into it and away from each
+  // other, (0, 1, 0.3) and (0, -1, 0.3). A small face whose centroid lies a hair (1e-13) on wall
+  // 0's side of the bisector plane y = 0 and that faces like wall 0 does not fold in double; once
+  // its corners are rounded to floats its centroid may lie on wall 1's side, and against wall 1
+  // it folds (find_fold_overs()'s test). round_to_float() must then round its corners the other
+  // way, to floats around the same exact values, so that it does not fold.
+  const TriangleMesh groove{{0, 0, 0, 1, 0, 0, 0.5, -0.3, 1, 0.5, 0.3, 1}, {1, 0, 2, 0, 1, 3}};
+  const SurfaceQuery surface(groove);
+  const double n = std::sqrt(1.09), vy = -0.3 / n, vz = 1 / n, s = 1e-3;  // v: in the face's plane
+  int found = 0;
+  for (int k = 0; k < 200 && found < 3; ++k) {
+    const double cx = 0.4 + 1e-4 * k, cy = -1e-13, cz = 0.4 + 1e-3 * ((k * 37) % 100);
+    const std::vector<double> exact{cx - s, cy - s * vy / 2, cz - s * vz / 2, cx, cy + s * vy, cz + s * vz,
+                                    cx + s, cy - s * vy / 2, cz - s * vz / 2};
+    const SemiRegularMesh face{SemiRegularHierarchy(TriangleTopology::build(3, std::vector<std::uint32_t>{0, 1, 2}), 0),
+                               exact, {}};
+    REQUIRE(find_fold_overs(face.finest(), surface).flipped.empty());
+    SemiRegularMesh rounded = face;
+    for (double& x : rounded.positions) x = static_cast<float>(x);
+    if (find_fold_overs(rounded.finest(), surface).flipped.empty()) continue;  // rounding kept wall 0
+    ++found;
+    SemiRegularMesh stored = face;
+    const FoldOvers folds = round_to_float(stored, surface);
+    CHECK(folds.flipped.empty());
+    CHECK(folds.degenerate.empty());
+    CHECK(find_fold_overs(stored.finest(), surface).flipped.empty());
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+      const double x = stored.positions[i];
+      CHECK(static_cast<float>(x) == x);
+      // One of the two floats around the exact value.
+      const float nearest = static_cast<float>(exact[i]);
+      CHECK(std::abs(x - exact[i]) <= std::abs(static_cast<double>(std::nextafter(nearest, 2.0f * nearest + 1)) - nearest));
+    }
+  }
+  CHECK(found == 3);  // the groove gives such faces at all (3 in the first 9 tried)
+}

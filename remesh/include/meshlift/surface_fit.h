@@ -91,6 +91,17 @@ std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std
 bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
                 std::uint32_t* hint = nullptr);
 
+/// Rounds the positions of `mesh` to 32-bit floats, the values a mesh file stores (mesh_io.h),
+/// and returns the folds (find_fold_overs()) of the rounded finest level. Rounding moves a
+/// coordinate by at most 2^-24 of its magnitude, yet it can turn a face whose centroid is closest
+/// to an input vertex or edge: which input face there is the closest is then decided by the last
+/// bits of the distances (homer remeshed at L = 6: 1 folded face in double, 4 rounded). Each face
+/// that folds once rounded but not in double gets its corners rounded the other way where that
+/// folds none of their faces (the first of the 2^9 ways to take, for each of its 9 coordinates,
+/// one of the two floats around it); a face no way mends keeps its corners as rounded, and is
+/// counted. (Untangling the whole mesh again instead left homer at 3.)
+FoldOvers round_to_float(SemiRegularMesh& mesh, const SurfaceQuery& surface);
+
 /// find_fold_overs()'s verdict on face t of the xyz array x, in a mesh of bounding-box diagonal
 /// `diagonal`: degenerate (is_degenerate()) or facing away (faces_away(), with its `hint`).
 bool is_folded(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, double diagonal,
