@@ -50,7 +50,6 @@
 #include "meshlift/untangle.h"
 #include "meshlift/validate.h"
 #include "meshlift/weld.h"
-#include "adjacency.h"
 #include "parallel.h"
 #include "vec3.h"
 
