@@ -1,6 +1,7 @@
 // Two tasks at once, for the encoder's and the decoder's independent stages (internal to codec/).
 #pragma once
 
+#include <cstdint>
 #include <exception>
 #include <new>
 #include <system_error>
@@ -56,6 +57,15 @@ void run_both(bool concurrent, First&& first, Second&& second) {
   }
   second();
   if (failure) std::rethrow_exception(failure);
+}
+
+/// part(e0, e1, f0, f1) over the coarse edges [0, E) and faces [0, F) of a level: with
+/// `concurrent`, the second halves (E / 2 on, F / 2 on) on a thread of their own beside the first
+/// halves (run_both), each half in order; else all of them at once on the caller's thread.
+template <class Part>
+void in_halves(bool concurrent, std::uint32_t E, std::uint32_t F, Part&& part) {
+  if (!concurrent) return part(0u, E, 0u, F);
+  run_both(true, [&] { part(E / 2, E, F / 2, F); }, [&] { part(0u, E / 2, 0u, F / 2); });
 }
 
 }  // namespace meshlift

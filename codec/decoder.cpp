@@ -332,17 +332,14 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   // caller hands its arrays over again: then the room is theirs to keep).
   if (storage == nullptr) values.shrink_to_fit();
   result.mesh.positions = std::move(values);
-  std::vector<std::uint32_t> faces;
-  if (faces_made != nullptr)
-    faces = std::move(*faces_made);
-  else {
-    if (storage != nullptr) faces = std::move(storage->faces);
-    if (result.level == L && release)
-      std::move(h).release_finest_triangles(faces);
-    else
-      h.copy_triangles(result.level, faces);
+  if (faces_made != nullptr) {
+    result.mesh.triangles = std::move(*faces_made);
+  } else if (result.level == L && release) {
+    if (storage != nullptr) result.mesh.triangles = std::move(storage->faces);
+    std::move(h).release_finest_triangles(result.mesh.triangles);
+  } else {
+    result.mesh.triangles = output_faces(h, options, storage);
   }
-  result.mesh.triangles = std::move(faces);
   result.bit_plane = progress.last_plane;
   result.base_vertices_decoded = progress.base_decoded;
   result.bytes_used = progress.prefix_bytes;

@@ -351,10 +351,7 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     else
       loop_predict_direct<0>(coarse, first_odd, values.data(), channels, before_odd, e0, e1, f0, f1);
   };
-  if (concurrent)
-    run_both(true, [&] { predict(E / 2, E, F / 2, F); }, [&] { predict(0, E / 2, 0, F / 2); });
-  else
-    predict(0, E, 0, F);
+  in_halves(concurrent, E, F, predict);
   constexpr std::uint32_t kBlockRows = 16384;
   stencils::loop_update_blocks(coarse, first_odd, kBlockRows, apply, {}, concurrent);
 }

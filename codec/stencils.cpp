@@ -856,8 +856,7 @@ void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::
       in_blocks(first_odd + 2 * E, f0, f1, 3, arity, block_rows, buffer, apply,
                 [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
     };
-    if (!concurrent) return part(0, E, 0, F);
-    run_both(true, [&] { part(E / 2, E, F / 2, F); }, [&] { part(0, E / 2, 0, F / 2); });
+    in_halves(concurrent, E, F, part);
   });
 }
 
