@@ -47,6 +47,14 @@ SemiRegularMesh mesh_with_channels(int levels) {
   return canonical_order(m);
 }
 
+/// `channels` values for each of `vertices` vertices, vertex-major: `noise` first, then 0.25 (what
+/// the syntheses on one and two threads start from).
+std::vector<double> channel_values(const std::vector<double>& noise, std::uint32_t vertices, int channels) {
+  std::vector<double> values(noise.begin(), noise.end());
+  values.resize(std::size_t{vertices} * static_cast<std::size_t>(channels), 0.25);
+  return values;
+}
+
 }  // namespace
 
 TEST_CASE("the edge-along-normal test without its square root decides as FORMAT.md's formula", "[frames]") {
@@ -376,8 +384,7 @@ TEST_CASE("synthesis with each large step in two halves on two threads gives the
     for (const int channels : {1, 3, 5}) {
       INFO("scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update << ", "
                      << channels << " channels");
-      std::vector<double> one(noise.begin(), noise.end());
-      one.resize(std::size_t{m.hierarchy.vertex_count(7)} * static_cast<std::size_t>(channels), 0.25);
+      std::vector<double> one = channel_values(noise, m.hierarchy.vertex_count(7), channels);
       std::vector<double> two = one;
       transform.synthesize(one, channels, -1, 0, false);
       transform.synthesize(two, channels, -1, 0, true);
@@ -437,8 +444,7 @@ TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each
       for (const int channels : {1, 3, 5}) {
         INFO("scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update << ", "
                        << channels << " channels");
-        std::vector<double> one(noise.begin(), noise.end());
-        one.resize(std::size_t{m.hierarchy.vertex_count(4)} * static_cast<std::size_t>(channels), 0.25);
+        std::vector<double> one = channel_values(noise, m.hierarchy.vertex_count(4), channels);
         std::vector<double> two = one;
         for (int level = 0; level < 4; ++level) synthesize_level_both_ways(m.hierarchy, options, level, one, two, channels);
         CHECK(same_bits(one, two));
