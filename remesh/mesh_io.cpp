@@ -131,6 +131,15 @@ struct PolygonFaces {
   const std::uint32_t* corners(std::size_t f) const { return mesh.face_indices.data() + mesh.face_offsets[f]; }
 };
 
+/// x's bytes at `at`, little-endian whatever the machine's order.
+template <class T>
+void store_little_endian(char* at, T x) {
+  static_assert(sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4);
+  using Bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>;
+  const auto bits = std::bit_cast<Bits>(x);
+  for (std::size_t i = 0; i < sizeof(T); ++i) at[i] = static_cast<char>((bits >> (8 * i)) & 0xff);
+}
+
 /// Bytes to a stream through a buffer of kBufferBytes; the stream's state is checked by the caller.
 class Output {
  public:
@@ -161,12 +170,20 @@ class Output {
   /// Little-endian, whatever the machine's order.
   template <class T>
   void little_endian(T x) {
-    static_assert(sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4);
-    using Bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>;
-    const auto bits = std::bit_cast<Bits>(x);
-    for (std::size_t i = 0; i < sizeof(T); ++i) buffer_.push_back(static_cast<char>((bits >> (8 * i)) & 0xff));
+    char bytes[sizeof(T)];
+    store_little_endian(bytes, x);
+    buffer_.append(bytes, sizeof(T));
     maybe_flush();
   }
+  /// Room for n more bytes at the end of the buffer, for the caller to fill before any other
+  /// call: binary records made in place, a block at a time, instead of one append per value.
+  char* room(std::size_t n) {
+    const std::size_t at = buffer_.size();
+    buffer_.resize(at + n);
+    return buffer_.data() + at;
+  }
+  /// After room(): writes the buffer out if it is full.
+  void filled() { maybe_flush(); }
   void flush() {
     if (!buffer_.empty()) out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
     buffer_.clear();
@@ -246,16 +263,39 @@ void write_ply(Output& out, const std::vector<double>& positions, const Faces& f
            std::to_string(V) + "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
            std::to_string(faces.count()) + "\nproperty list " + (byte_counts ? "uchar" : "int") +
            " int vertex_indices\nend_header\n");
-  for (std::uint32_t v = 0; v < V; ++v) {
-    const std::array<float, 3> p = stored_point(positions, v);
-    if (binary) {
-      for (const float x : p) out.little_endian(x);
-    } else {
-      write_point(out, p);
+  // Binary vertices, and triangles with a uchar count, are made in place a block at a time.
+  constexpr std::size_t kBlock = 4096;
+  if (binary) {
+    for (std::size_t first = 0; first < V; first += kBlock) {
+      const std::size_t n = std::min(kBlock, V - first);
+      char* at = out.room(12 * n);
+      for (std::size_t i = 0; i < 3 * n; ++i) store_little_endian(at + 4 * i, static_cast<float>(positions[3 * first + i]));
+      out.filled();
+    }
+  } else {
+    for (std::uint32_t v = 0; v < V; ++v) {
+      write_point(out, stored_point(positions, v));
       out.character('\n');
     }
   }
-  for (std::size_t f = 0; f < faces.count(); ++f) {
+  std::size_t f = 0;
+  if (binary && byte_counts) {
+    // The longest run of triangles from the start (all of them for a TriangleFaces).
+    std::size_t triangles = 0;
+    while (triangles < faces.count() && faces.size(triangles) == 3) ++triangles;
+    for (; f < triangles; f += kBlock) {
+      const std::size_t n = std::min(kBlock, triangles - f);
+      char* at = out.room(13 * n);
+      for (std::size_t i = 0; i < n; ++i, at += 13) {
+        const std::uint32_t* corners = faces.corners(f + i);
+        at[0] = 3;
+        for (int c = 0; c < 3; ++c) store_little_endian(at + 1 + 4 * c, static_cast<std::int32_t>(corners[c]));
+      }
+      out.filled();
+    }
+    f = triangles;
+  }
+  for (; f < faces.count(); ++f) {
     const std::size_t n = faces.size(f);
     const std::uint32_t* corners = faces.corners(f);
     if (binary) {
@@ -297,11 +337,14 @@ void write_stl(Output& out, const std::vector<double>& positions, const Faces& f
     const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     for (double& x : n) x = length > 0 ? x / length : 0.0;
     const std::array<float, 3> normal = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
-    if (binary) {
-      for (const float x : normal) out.little_endian(x);
-      for (const auto& corner : p)
-        for (const float x : corner) out.little_endian(x);
-      out.little_endian(std::uint16_t{0});
+    if (binary) {  // one 50-byte record: the normal, the corners, a zero attribute count
+      char* at = out.room(50);
+      for (int k = 0; k < 12; ++k) {
+        const std::size_t i = static_cast<std::size_t>(k);
+        store_little_endian(at + 4 * k, k < 3 ? normal[i] : p[i / 3 - 1][i % 3]);
+      }
+      store_little_endian(at + 48, std::uint16_t{0});
+      out.filled();
     } else {
       out.text("facet normal ");
       write_point(out, normal);
