@@ -26,6 +26,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <future>
 #include <iterator>
 #include <limits>
@@ -135,8 +136,30 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// positions, as before; rounding every candidate instead changed them (turbine at L = 4: 80.4
 /// -> 56.8 dB, its missing parts no longer kept), and so does a remesh of a level fewer refined
 /// from rounded positions (remesh_levels()).
-void store_as_float(RemeshResult& result, const SurfaceQuery& surface) {
-  const FoldOvers stored = round_to_float(result.mesh, surface);
+/// Then, where faces still fold, the last resort, search_unfolded() (untangle.h), around each
+/// one away from the input's crossings (`crossing`: per input face, 1 where it cuts through
+/// another or lies within two rings of one, computed only where needed), where an orientation
+/// that faces the input exists (mannequin-devil at L = 6: 45 folds next to its crossings, 32
+/// of them searched, 63 s more, 9 unfolded):
+/// at L = 6 it mends the single folds of turbine, armadillo, cow and homer (docs/RESULTS.md,
+/// "The folds left at L = 6, mended by a search").
+void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const FoldSearchOptions& search,
+                    const std::function<const std::vector<std::uint8_t>&()>& crossing) {
+  FoldOvers stored = round_to_float(result.mesh, surface);
+  if (search.evaluations > 0 && !(stored.flipped.empty() && stored.degenerate.empty())) {
+    const std::vector<std::uint8_t>& at_crossing = crossing();
+    const std::vector<std::uint32_t>& finest = result.mesh.hierarchy.triangles(result.mesh.hierarchy.levels());
+    std::vector<std::uint32_t> faces = stored.degenerate;
+    for (const std::uint32_t f : stored.flipped) {
+      std::uint32_t closest = kNone;
+      faces_away(result.mesh.positions, &finest[3 * std::size_t{f}], surface, &closest);
+      if (closest >= at_crossing.size() || at_crossing[closest] == 0) faces.push_back(f);
+    }
+    const FoldSearchReport searched = search_unfolded(result.mesh, surface, faces, search);
+    result.folds_searched = searched.tried;
+    result.folds_mended_by_search = searched.mended;
+    if (searched.mended > 0) stored = find_fold_overs(result.mesh.finest(), surface);
+  }
   result.flipped_triangles = stored.flipped.size();
   result.degenerate_triangles = stored.degenerate.size();
 }
@@ -567,25 +590,36 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
   // Flipped faces where the input passes through itself (cow's tail through its body,
   // mannequin-devil's hands): counted apart, since no orientation agrees with both sheets.
   std::optional<std::vector<std::array<std::uint32_t, 2>>> input_crossings;  // found once, when first needed
-  auto note_crossings = [&](RemeshResult& result) {
+  std::optional<std::vector<std::uint8_t>> crossing_faces;                    // per input face: 1 at a crossing
+  auto crossing_marks = [&]() -> const std::vector<std::uint8_t>& {
     if (!input_crossings) input_crossings = self_intersections(mesh);
-    const std::vector<std::array<std::uint32_t, 2>>& crossings = *input_crossings;
-    result.input_crossing_pairs = crossings.size();
+    if (!crossing_faces) {
+      crossing_faces.emplace(mesh.face_count(), 0);
+      for (const auto& [f, g] : *input_crossings) (*crossing_faces)[f] = (*crossing_faces)[g] = 1;
+    }
+    return *crossing_faces;
+  };
+  std::optional<std::vector<std::uint8_t>> near_crossing_faces;  // per input face: 1 within two rings of one
+  auto near_crossing_marks = [&]() -> const std::vector<std::uint8_t>& {
+    if (!near_crossing_faces) near_crossing_faces = faces_near_marked(mesh, crossing_marks(), 2);
+    return *near_crossing_faces;
+  };
+  auto note_crossings = [&](RemeshResult& result) {
+    const std::vector<std::uint8_t>& crossing = crossing_marks();
+    result.input_crossing_pairs = input_crossings->size();
     result.coincident_vertices = checked.duplicate_vertices;
     result.flipped_where_input_crosses = result.flipped_near_input_crossings = 0;  // set by a fold_free() before rounding
-    if (result.flipped_triangles == 0 || crossings.empty()) return;
-    std::vector<std::uint8_t> crossing(mesh.face_count(), 0);
-    for (const auto& [f, g] : crossings) crossing[f] = crossing[g] = 1;
+    if (result.flipped_triangles == 0 || input_crossings->empty()) return;
     const TriangleMesh finest = result.mesh.finest();
     const std::vector<std::uint32_t> flipped = find_fold_overs(finest, surface).flipped;
     result.flipped_where_input_crosses = count_at_crossings(finest, flipped, surface, crossing);
-    result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, faces_near_marked(mesh, crossing, 2));
+    result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, near_crossing_marks());
   };
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);
     if (as_stored) {
       StageClock clock(result.stage_seconds);
-      store_as_float(result, surface);
+      store_as_float(result, surface, options.fold_search, near_crossing_marks);
       clock.lap("store as float");
     }
     note_crossings(result);
@@ -1072,7 +1106,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
   }
   if (as_stored) {
     StageClock clock(result.stage_seconds);
-    store_as_float(result, surface);
+    store_as_float(result, surface, options.fold_search, near_crossing_marks);
     clock.lap("store as float");
   }
   note_crossings(result);

@@ -153,6 +153,11 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
     std::fprintf(stderr, "%s: snap: %zu remesh vertices moved onto the input's corners, %zu onto its creases\n",
                  path.c_str(), result.snapped_to_vertices, result.snapped_to_creases);
   std::fprintf(stderr, "%s: peak memory %.0f MiB\n", path.c_str(), peak_rss_mb());
+  if (result.folds_searched > 0)
+    std::fprintf(stderr,
+                 "%s: last resort: searched the vertices around %zu folded faces the untangling left (away from "
+                 "the input's crossings); %zu of those searches unfolded them\n",
+                 path.c_str(), result.folds_searched, result.folds_mended_by_search);
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
                result.degenerate_triangles);
   if (result.input_crossing_pairs > 0)

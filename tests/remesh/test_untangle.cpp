@@ -191,3 +191,69 @@ TEST_CASE("Untangling rejects options out of range", "[remesh][untangle]") {
   options.relaxation_steps = -1;
   CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
 }
+
+TEST_CASE("search_unfolded unfolds a face by moving the vertices around it, in floats, the same every time", "[remesh][untangle]") {
+  const SurfaceQuery sphere(test::icosphere(5));
+  SemiRegularMesh mesh = test::sphere_refinement(3);
+  const std::vector<std::uint32_t>& t = mesh.hierarchy.triangles(3);
+  // A finest vertex pushed a third of an edge past its neighbour: its faces fold.
+  const std::uint32_t v = t[3 * 100], through = t[3 * 100 + 1];
+  for (int c = 0; c < 3; ++c) mesh.positions[3 * v + c] += 1.3 * (mesh.positions[3 * through + c] - mesh.positions[3 * v + c]);
+  const std::vector<double> tangled = mesh.positions;
+  const FoldOvers before = find_fold_overs(mesh.finest(), sphere);
+  std::vector<std::uint32_t> faces = before.flipped;
+  faces.insert(faces.end(), before.degenerate.begin(), before.degenerate.end());
+  REQUIRE(faces.size() >= 2);
+
+  const FoldSearchReport report = search_unfolded(mesh, sphere, faces);
+  CHECK(report.tried >= 1);
+  CHECK(report.mended == report.tried);
+  CHECK(folds(mesh, sphere) == 0);
+  // Moved: only vertices within two rings of a folded face's corners, each to a float position.
+  std::vector<std::uint8_t> near(mesh.positions.size() / 3, 0);
+  for (const std::uint32_t f : faces)
+    for (int i = 0; i < 3; ++i) near[t[3 * f + i]] = 1;
+  for (int ring = 0; ring < 2; ++ring) {
+    std::vector<std::uint8_t> next = near;
+    for (std::size_t f = 0; f < t.size() / 3; ++f)
+      if (near[t[3 * f]] || near[t[3 * f + 1]] || near[t[3 * f + 2]])
+        for (int i = 0; i < 3; ++i) next[t[3 * f + i]] = 1;
+    near = std::move(next);
+  }
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (mesh.positions[i] != tangled[i]) {
+      ++moved;
+      CHECK(near[i / 3] == 1);
+      CHECK(mesh.positions[i] == static_cast<double>(static_cast<float>(mesh.positions[i])));
+    }
+  CHECK(moved >= 1);
+  // The same moves from the same start.
+  const std::vector<double> first = mesh.positions;
+  mesh.positions = tangled;
+  search_unfolded(mesh, sphere, faces);
+  CHECK(mesh.positions == first);
+
+  // A search that cannot reach far enough puts every vertex back; none searches with 0 moves.
+  mesh.positions = tangled;
+  FoldSearchOptions options;
+  options.reach = 1e-3;
+  const FoldSearchReport short_reach = search_unfolded(mesh, sphere, faces, options);
+  CHECK(short_reach.tried >= 1);
+  CHECK(short_reach.mended == 0);
+  CHECK(mesh.positions == tangled);
+  options = {};
+  options.evaluations = 0;
+  CHECK(search_unfolded(mesh, sphere, faces, options).tried == 0);
+  CHECK(mesh.positions == tangled);
+  // Options out of range.
+  options = {};
+  options.first_rings = 0;
+  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
+  options = {};
+  options.max_rings = 0;
+  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
+  options = {};
+  options.reach = 0;
+  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
+}

@@ -66,4 +66,36 @@ struct UntangleReport {
 /// centroid. \throw std::invalid_argument if an option is out of range.
 UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options = {});
 
+/// search_unfolded(): its effort. Measured on the folds left at L = 6 (docs/RESULTS.md, "The
+/// folds left at L = 6, mended by a search"): turbine's and cow's go within one ring in a few
+/// hundred moves, homer's and armadillo's need two rings and a few thousand.
+struct FoldSearchOptions {
+  /// Moves tried per patch (>= 0; 0 turns the search off).
+  int evaluations = 20000;
+  /// Rings of vertices around the folded face's corners that may move: first_rings, then one
+  /// more a try up to max_rings (1 <= first_rings <= max_rings).
+  int first_rings = 1;
+  int max_rings = 3;
+  /// How far a vertex may go from where it was, in mean edge lengths of the patch (> 0).
+  double reach = 1.0;
+  /// Faces tried at most (a remesh with more folds has failed in other ways).
+  std::size_t max_faces = 32;
+};
+
+struct FoldSearchReport {
+  std::size_t tried = 0;   ///< faces searched around (a face mended by another's search is not)
+  std::size_t mended = 0;  ///< of those, the ones whose patch folds no face any more
+};
+
+/// The untangling's last resort, for the few faces still folded in a finished remesh: around
+/// each of `faces` (finest-level faces of `mesh`), a random search moves the vertices within a
+/// ring or two of its corners, one at a time, each move kept where the faces they touch fold
+/// fewer (find_fold_overs()'s verdict) or fold by less, until none folds. Each vertex then goes
+/// back towards where it was as far as no fold comes back. Positions are rounded to floats as
+/// they move (a mesh file stores floats: round_to_float()), boundary vertices stay, and a patch
+/// the search cannot unfold is put back as it was. Deterministic (its own random numbers).
+/// 	hrow std::invalid_argument if an option is out of range.
+FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surface, std::span<const std::uint32_t> faces,
+                                 const FoldSearchOptions& options = {});
+
 }  // namespace meshlift
