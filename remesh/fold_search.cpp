@@ -206,8 +206,8 @@ bool search_patch(Patch& patch, int evaluations, double reach, std::uint64_t see
 FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surface,
                                  std::span<const std::uint32_t> faces, const FoldSearchOptions& options) {
   if (options.evaluations < 0 || options.first_rings < 1 || options.max_rings < options.first_rings ||
-      !(options.reach > 0))
-    throw std::invalid_argument("search_unfolded: evaluations >= 0, 1 <= first_rings <= max_rings, reach > 0");
+      options.attempts < 1 || !(options.reach > 0))
+    throw std::invalid_argument("search_unfolded: evaluations >= 0, 1 <= first_rings <= max_rings, attempts >= 1, reach > 0");
   FoldSearchReport report;
   if (faces.empty() || options.evaluations == 0) return report;
   const int L = mesh.hierarchy.levels();
@@ -218,13 +218,15 @@ FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surf
     if (report.tried == options.max_faces) break;
     if (!is_folded(mesh.positions, &triangles[3 * std::size_t{face}], surface, diagonal)) continue;  // mended with another
     ++report.tried;
-    for (int rings = options.first_rings; rings <= options.max_rings; ++rings) {
+    bool mended = false;
+    for (int rings = options.first_rings; rings <= options.max_rings && !mended; ++rings) {
       Patch patch(mesh.positions, triangles, adjacency, surface, diagonal, face, rings);
-      if (search_patch(patch, options.evaluations, options.reach, 0x5eedull * (face + 1) + static_cast<std::uint64_t>(rings))) {
-        ++report.mended;
-        break;
-      }
+      for (int attempt = 0; attempt < (rings == options.max_rings ? options.attempts : 1) && !mended; ++attempt)
+        mended = search_patch(patch, options.evaluations, options.reach,
+                              options.seed + 0x5eedull * (face + 1) + 0x100ull * static_cast<std::uint64_t>(attempt) +
+                                  static_cast<std::uint64_t>(rings));
     }
+    report.mended += mended;
   }
   return report;
 }

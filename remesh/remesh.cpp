@@ -136,25 +136,27 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// positions, as before; rounding every candidate instead changed them (turbine at L = 4: 80.4
 /// -> 56.8 dB, its missing parts no longer kept), and so does a remesh of a level fewer refined
 /// from rounded positions (remesh_levels()).
-/// Then, where faces still fold, the last resort, search_unfolded() (untangle.h), around each
-/// one away from the input's crossings (`crossing`: per input face, 1 where it cuts through
-/// another or lies within two rings of one, computed only where needed), where an orientation
-/// that faces the input exists (mannequin-devil at L = 6: 45 folds next to its crossings, 32
-/// of them searched, 63 s more, 9 unfolded):
-/// at L = 6 it mends the single folds of turbine, armadillo, cow and homer (docs/RESULTS.md,
-/// "The folds left at L = 6, mended by a search").
+/// Then, where faces still fold, the last resort, search_unfolded() (untangle.h): around each
+/// one away from the input's crossings first (`crossing`: per input face, 1 where it cuts
+/// through another or lies within two rings of one, computed only where needed), where an
+/// orientation that faces the input exists; then around those at or next to the crossings, if
+/// there are kSearchedAtCrossings or fewer (cow at L = 6 has one, mannequin-devil 517: searching
+/// 32 of those took 63 s and unfolded 10). At L = 6 it leaves turbine, homer, cow and armadillo
+/// without a fold (docs/RESULTS.md, "The folds left at L = 6, mended by a search").
+constexpr std::size_t kSearchedAtCrossings = 8;
 void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const FoldSearchOptions& search,
                     const std::function<const std::vector<std::uint8_t>&()>& crossing) {
   FoldOvers stored = round_to_float(result.mesh, surface);
   if (search.evaluations > 0 && !(stored.flipped.empty() && stored.degenerate.empty())) {
     const std::vector<std::uint8_t>& at_crossing = crossing();
     const std::vector<std::uint32_t>& finest = result.mesh.hierarchy.triangles(result.mesh.hierarchy.levels());
-    std::vector<std::uint32_t> faces = stored.degenerate;
+    std::vector<std::uint32_t> faces = stored.degenerate, at_crossings;
     for (const std::uint32_t f : stored.flipped) {
       std::uint32_t closest = kNone;
       faces_away(result.mesh.positions, &finest[3 * std::size_t{f}], surface, &closest);
-      if (closest >= at_crossing.size() || at_crossing[closest] == 0) faces.push_back(f);
+      (closest < at_crossing.size() && at_crossing[closest] != 0 ? at_crossings : faces).push_back(f);
     }
+    if (at_crossings.size() <= kSearchedAtCrossings) faces.insert(faces.end(), at_crossings.begin(), at_crossings.end());
     const FoldSearchReport searched = search_unfolded(result.mesh, surface, faces, search);
     result.folds_searched = searched.tried;
     result.folds_mended_by_search = searched.mended;
@@ -599,10 +601,19 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     }
     return *crossing_faces;
   };
-  std::optional<std::vector<std::uint8_t>> near_crossing_faces;  // per input face: 1 within two rings of one
+  std::optional<std::vector<std::uint8_t>> near_crossing_faces;  // per input face: 1 within two rings of one (not at one)
   auto near_crossing_marks = [&]() -> const std::vector<std::uint8_t>& {
     if (!near_crossing_faces) near_crossing_faces = faces_near_marked(mesh, crossing_marks(), 2);
     return *near_crossing_faces;
+  };
+  std::optional<std::vector<std::uint8_t>> by_crossing_faces;  // per input face: 1 at a crossing or within two rings of one
+  auto by_crossing_marks = [&]() -> const std::vector<std::uint8_t>& {
+    if (!by_crossing_faces) {
+      by_crossing_faces = crossing_marks();
+      const std::vector<std::uint8_t>& near = near_crossing_marks();
+      for (std::size_t f = 0; f < near.size(); ++f) (*by_crossing_faces)[f] |= near[f];
+    }
+    return *by_crossing_faces;
   };
   auto note_crossings = [&](RemeshResult& result) {
     const std::vector<std::uint8_t>& crossing = crossing_marks();
@@ -619,7 +630,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     RemeshResult result = by_sphere(options.levels);
     if (as_stored) {
       StageClock clock(result.stage_seconds);
-      store_as_float(result, surface, options.fold_search, near_crossing_marks);
+      store_as_float(result, surface, options.fold_search, by_crossing_marks);
       clock.lap("store as float");
     }
     note_crossings(result);
@@ -1106,7 +1117,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
   }
   if (as_stored) {
     StageClock clock(result.stage_seconds);
-    store_as_float(result, surface, options.fold_search, near_crossing_marks);
+    store_as_float(result, surface, options.fold_search, by_crossing_marks);
     clock.lap("store as float");
   }
   note_crossings(result);

@@ -155,8 +155,8 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
   std::fprintf(stderr, "%s: peak memory %.0f MiB\n", path.c_str(), peak_rss_mb());
   if (result.folds_searched > 0)
     std::fprintf(stderr,
-                 "%s: last resort: searched the vertices around %zu folded faces the untangling left (away from "
-                 "the input's crossings); %zu of those searches unfolded them\n",
+                 "%s: last resort: searched the vertices around %zu folded faces the untangling left; %zu of "
+                 "those searches unfolded them\n",
                  path.c_str(), result.folds_searched, result.folds_mended_by_search);
   std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
                result.degenerate_triangles);

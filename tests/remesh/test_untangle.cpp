@@ -256,4 +256,7 @@ TEST_CASE("search_unfolded unfolds a face by moving the vertices around it, in f
   options = {};
   options.reach = 0;
   CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
+  options = {};
+  options.attempts = 0;
+  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
 }

@@ -148,9 +148,10 @@ struct RemeshOptions {
   /// crossings (a failed remesh: up to 16,384 input vertices at L = 3). 0 turns it off. (Where the decimation keeps half the input's vertices or more
   /// although fewer were asked for, the refinement is taken whatever this is.)
   double input_refinement_vertices = 65'536;
-  /// The last resort for the faces still folded in the remesh returned, more than two rings of
-  /// input faces away from the input's crossings: a search over the vertices around each
-  /// (untangle.h, search_unfolded()); `evaluations = 0` turns it off.
+  /// The last resort for the faces still folded in the remesh returned: a search over the
+  /// vertices around each (untangle.h, search_unfolded()), first around those more than two
+  /// rings of input faces away from the input's crossings, then around those at or next to
+  /// them where there are 8 or fewer; `evaluations = 0` turns it off.
   FoldSearchOptions fold_search{};
   /// Deep hierarchies, level by level: a remesh of this many levels or more whose base is the
   /// one its remesh of a level fewer has (the base size given, or a decimation that stops at its
@@ -223,9 +224,8 @@ struct RemeshResult {
   /// both 0 in a good remesh; docs/RESULTS.md counts them on the corpus.
   std::size_t flipped_triangles = 0;
   std::size_t degenerate_triangles = 0;
-  /// Faces still folded once the remesh was rounded to floats, away from the input's crossings
-  /// (and the two rings around them), that the last resort searched around
-  /// (RemeshOptions::fold_search), and how many of those
+  /// Faces still folded once the remesh was rounded to floats that the last resort searched
+  /// around (RemeshOptions::fold_search), and how many of those
   /// searches left their patch without a fold (counted in flipped_triangles no more).
   std::size_t folds_searched = 0, folds_mended_by_search = 0;
   /// Pairs of the input's faces that cut through each other (self_intersection.h), and how many
