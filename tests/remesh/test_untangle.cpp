@@ -15,6 +15,16 @@ std::size_t folds(const SemiRegularMesh& mesh, const SurfaceQuery& surface) {
   return f.flipped.size() + f.degenerate.size();
 }
 
+/// A sphere's remesh (3 levels) with a finest vertex pushed `times` the way to its neighbour:
+/// past it for times > 1, so that its faces fold.
+SemiRegularMesh sphere_with_vertex_pushed(double times) {
+  SemiRegularMesh mesh = test::sphere_refinement(3);
+  const std::vector<std::uint32_t>& t = mesh.hierarchy.triangles(3);
+  const std::uint32_t v = t[3 * 100], through = t[3 * 100 + 1];
+  for (int c = 0; c < 3; ++c) mesh.positions[3 * v + c] += times * (mesh.positions[3 * through + c] - mesh.positions[3 * v + c]);
+  return mesh;
+}
+
 }  // namespace
 
 TEST_CASE("Untangling unfolds pleats on a sphere and leaves the vertices on it", "[remesh][untangle]") {
@@ -49,10 +59,7 @@ TEST_CASE("Untangling unfolds pleats on a sphere and leaves the vertices on it",
 
 TEST_CASE("Vertex by vertex untangling alone unfolds a vertex pushed across its ring", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(5));
-  SemiRegularMesh mesh = test::sphere_refinement(3);
-  const std::vector<std::uint32_t>& t = mesh.hierarchy.triangles(3);
-  const std::uint32_t v = t[3 * 100], through = t[3 * 100 + 1];
-  for (int c = 0; c < 3; ++c) mesh.positions[3 * v + c] += 1.8 * (mesh.positions[3 * through + c] - mesh.positions[3 * v + c]);
+  SemiRegularMesh mesh = sphere_with_vertex_pushed(1.8);
   const std::vector<double> tangled_positions = mesh.positions;
   const std::size_t tangled = folds(mesh, sphere);
   REQUIRE(tangled >= 2);
@@ -194,11 +201,8 @@ TEST_CASE("Untangling rejects options out of range", "[remesh][untangle]") {
 
 TEST_CASE("search_unfolded unfolds a face by moving the vertices around it, in floats, the same every time", "[remesh][untangle]") {
   const SurfaceQuery sphere(test::icosphere(5));
-  SemiRegularMesh mesh = test::sphere_refinement(3);
+  SemiRegularMesh mesh = sphere_with_vertex_pushed(1.3);  // a third of an edge past its neighbour
   const std::vector<std::uint32_t>& t = mesh.hierarchy.triangles(3);
-  // A finest vertex pushed a third of an edge past its neighbour: its faces fold.
-  const std::uint32_t v = t[3 * 100], through = t[3 * 100 + 1];
-  for (int c = 0; c < 3; ++c) mesh.positions[3 * v + c] += 1.3 * (mesh.positions[3 * through + c] - mesh.positions[3 * v + c]);
   const std::vector<double> tangled = mesh.positions;
   const FoldOvers before = find_fold_overs(mesh.finest(), sphere);
   std::vector<std::uint32_t> faces = before.flipped;
