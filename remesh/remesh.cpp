@@ -141,7 +141,7 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// through another or lies within two rings of one, computed only where needed), where an
 /// orientation that faces the input exists; then around those at or next to the crossings, if
 /// there are kSearchedAtCrossings or fewer (cow at L = 6 has one, mannequin-devil 517: searching
-/// 32 of those took 63 s and unfolded 10). At L = 6 it leaves turbine, homer, cow and armadillo
+/// 32 of those took 33-63 s and unfolded 9-10). At L = 6 it leaves turbine, homer, cow and armadillo
 /// without a fold (docs/RESULTS.md, "The folds left at L = 6, mended by a search").
 constexpr std::size_t kSearchedAtCrossings = 8;
 void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const FoldSearchOptions& search,
