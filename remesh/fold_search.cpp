@@ -4,8 +4,9 @@
 // folded where neither works, in a strip of long faces along a sharp input crease (docs/RESULTS.md,
 // "The single folds left at L = 6"). Moving several vertices of the strip, one after the other,
 // each move kept only where it leaves fewer folded faces (or as many, folded by less), mends it:
-// a (1+1) evolution strategy with a step that grows on success and shrinks on failure
-// (Rechenberg's 1/5 rule in its usual form: ×1.5 on success, ×0.97 on failure).
+// a (1+1) evolution strategy whose step grows ×1.5 after a kept move and shrinks ×0.97 after a
+// rejected one (a success rule in the manner of Rechenberg's 1/5 rule, settling where about 7 %
+// of the moves are kept: ln(1/0.97) / ln(1.5/0.97)).
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -22,8 +23,9 @@ namespace {
 
 using namespace vec3;
 
-/// A position as a mesh file stores it. Kept in floats, not as doubles rounded through a float:
-/// GCC 12's -O3 (its SLP vectorizer) dropped such a round trip here, leaving doubles in the mesh.
+/// A position as a mesh file stores it. (Turning such a point back into doubles lane by lane is
+/// the pattern GCC 12.2's SLP vectorizer miscompiles at -O2 and above, dropping the rounding:
+/// what keeps these floats is the build's -fno-tree-slp-vectorize, CMakeLists.txt.)
 using Point = std::array<float, 3>;
 
 Point stored(const Vec3& p) { return {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])}; }
@@ -137,7 +139,9 @@ class Patch {
 /// pulled back towards where they were as far as that stays so), else the patch as it was.
 bool search_patch(Patch& patch, int evaluations, double reach, std::uint64_t seed) {
   const std::size_t n = patch.vertices().size();
-  if (n == 0 || !(patch.edge() > 0)) return false;
+  // Nothing of the patch folds where its face's corners are all on the boundary (a face whose
+  // vertices all stay is in no patch): nothing to search.
+  if (n == 0 || !(patch.edge() > 0) || patch.folded() == 0) return false;
   int best = patch.folded();
   double best_shortfall = patch.shortfall();
   double step = 0.3;  // in mean edge lengths
@@ -190,6 +194,8 @@ bool search_patch(Patch& patch, int evaluations, double reach, std::uint64_t see
         const Vec3 a = where(i), b = patch.start(i);
         const Point q = stored(t > 0 ? Vec3{a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])}
                                      : patch.closest(a));
+        const Vec3 d = sub({q[0], q[1], q[2]}, b);
+        if (dot(d, d) > limit * limit) continue;  // the closest point can lie beyond the reach
         patch.move(i, q);
         if (patch.folded() == 0) {
           moved[i] = q;
@@ -226,7 +232,7 @@ FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surf
                               options.seed + 0x5eedull * (face + 1) + 0x100ull * static_cast<std::uint64_t>(attempt) +
                                   static_cast<std::uint64_t>(rings));
     }
-    report.mended += mended;
+    report.mended += mended && !is_folded(mesh.positions, &triangles[3 * std::size_t{face}], surface, diagonal);
   }
   return report;
 }

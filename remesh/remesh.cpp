@@ -140,7 +140,7 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// one away from the input's crossings first (`crossing`: per input face, 1 where it cuts
 /// through another or lies within two rings of one, computed only where needed), where an
 /// orientation that faces the input exists; then around those at or next to the crossings, if
-/// there are kSearchedAtCrossings or fewer (cow at L = 6 has one, mannequin-devil 517: searching
+/// there are kSearchedAtCrossings or fewer (cow at L = 6 has one, mannequin-devil 528: searching
 /// 32 of those took 33-63 s and unfolded 9-10). At L = 6 it leaves turbine, homer, cow and armadillo
 /// without a fold (docs/RESULTS.md, "The folds left at L = 6, mended by a search").
 constexpr std::size_t kSearchedAtCrossings = 8;
@@ -502,6 +502,9 @@ namespace {
 /// levels went from 0 folded faces to 4).
 RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& options, bool as_stored) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
+  if (const FoldSearchOptions& s = options.fold_search; s.evaluations < 0 || s.first_rings < 1 ||
+                                                         s.max_rings < s.first_rings || s.attempts < 1 || !(s.reach > 0))
+    throw MeshError("fold_search: evaluations >= 0, 1 <= first_rings <= max_rings, attempts >= 1, reach > 0");
   if (options.missing_part_rounds < 0 || !(options.missing_part_distance >= 0))
     throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
   if (std::isnan(options.give_up_margin)) throw MeshError("give_up_margin must be a number (infinity: never give up)");

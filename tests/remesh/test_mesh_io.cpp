@@ -91,10 +91,11 @@ TEST_CASE("every format round-trips procedural meshes", "[mesh_io]") {
       {"torus", to_polygon_mesh(test::torus(9, 7))},
       {"grid", to_polygon_mesh(test::grid(6))},
       {"cube_quads", test::cube_quads()},
-      // Over 4,096 vertices and faces (binary files are made in blocks of that many), and a quad
-      // after the triangles (binary PLY writes the run of triangles first, as one block each).
+      // Over 4,096 vertices and faces (binary files are made in blocks of that many) and over the
+      // writer's 1 MiB buffer, and a quad after the triangles (binary PLY writes the run of
+      // triangles first, a block at a time).
       {"torus_then_quad", [] {
-         PolygonMesh m = to_polygon_mesh(test::torus(80, 70));
+         PolygonMesh m = to_polygon_mesh(test::torus(180, 180));
          const auto first = static_cast<std::uint32_t>(m.vertex_count());
          m.positions.insert(m.positions.end(), {5, 0, 0, 6, 0, 0, 6, 1, 0, 5, 1, 0.5});
          m.face_indices.insert(m.face_indices.end(), {first, first + 1, first + 2, first + 3});

@@ -187,6 +187,13 @@ TEST_CASE("Remeshing rejects what it cannot remesh with the validator's message"
   RemeshOptions options;
   options.levels = 13;
   CHECK_THROWS_AS(remesh(test::icosahedron(), options), MeshError);
+  // The last resort's options, checked before any work (not after the remesh, where they are used).
+  options = {};
+  options.fold_search.first_rings = 0;
+  CHECK_THROWS_AS(remesh(test::icosahedron(), options), MeshError);
+  options = {};
+  options.fold_search.attempts = 0;
+  CHECK_THROWS_AS(remesh(test::icosahedron(), options), MeshError);
 }
 
 TEST_CASE("Remeshing development meshes leaves no folded face and stays close", "[corpus][remesh][pipeline]") {

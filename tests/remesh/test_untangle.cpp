@@ -213,11 +213,11 @@ TEST_CASE("search_unfolded unfolds a face by moving the vertices around it, in f
   CHECK(report.tried >= 1);
   CHECK(report.mended == report.tried);
   CHECK(folds(mesh, sphere) == 0);
-  // Moved: only vertices within two rings of a folded face's corners, each to a float position.
+  // Moved: only vertices within max_rings rings of a folded face's corners, each to a float position.
   std::vector<std::uint8_t> near(mesh.positions.size() / 3, 0);
   for (const std::uint32_t f : faces)
     for (int i = 0; i < 3; ++i) near[t[3 * f + i]] = 1;
-  for (int ring = 0; ring < 2; ++ring) {
+  for (int ring = 0; ring < FoldSearchOptions{}.max_rings; ++ring) {
     std::vector<std::uint8_t> next = near;
     for (std::size_t f = 0; f < t.size() / 3; ++f)
       if (near[t[3 * f]] || near[t[3 * f + 1]] || near[t[3 * f + 2]])

@@ -81,7 +81,7 @@ struct FoldSearchOptions {
   int attempts = 4;
   /// How far a vertex may go from where it was, in mean edge lengths of the patch (> 0).
   double reach = 1.0;
-  /// Faces tried at most (a remesh with more folds has failed in other ways).
+  /// Faces tried at most (a remesh with more folds has failed in other ways; 0: none).
   std::size_t max_faces = 32;
   /// Where the search's random numbers start (with the face's index): another seed, another
   /// search.
@@ -90,17 +90,17 @@ struct FoldSearchOptions {
 
 struct FoldSearchReport {
   std::size_t tried = 0;   ///< faces searched around (a face mended by another's search is not)
-  std::size_t mended = 0;  ///< of those, the ones whose patch folds no face any more
+  std::size_t mended = 0;  ///< of those, the ones no longer folded, their patch folding no face
 };
 
 /// The untangling's last resort, for the few faces still folded in a finished remesh: around
-/// each of `faces` (finest-level faces of `mesh`), a random search moves the vertices within a
-/// ring or two of its corners, one at a time, each move kept where the faces they touch fold
+/// each of `faces` (finest-level faces of `mesh`), a random search moves the vertices within one
+/// to three rings of its corners (first_rings to max_rings), one at a time, each move kept where the faces they touch fold
 /// fewer (find_fold_overs()'s verdict) or fold by less, until none folds. Each vertex then goes
 /// back towards where it was as far as no fold comes back. Positions are rounded to floats as
 /// they move (a mesh file stores floats: round_to_float()), boundary vertices stay, and a patch
 /// the search cannot unfold is put back as it was. Deterministic (its own random numbers).
-/// 	hrow std::invalid_argument if an option is out of range.
+/// \throw std::invalid_argument if an option is out of range.
 FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surface, std::span<const std::uint32_t> faces,
                                  const FoldSearchOptions& options = {});
 
