@@ -267,6 +267,15 @@ TEST_CASE("A small CAD input whose remesh folds is refined as it is instead", "[
   const RemeshResult before = remesh(input, options);
   CHECK_FALSE(before.input_refined);
   CHECK(before.flipped_triangles > before.flipped_where_input_crosses);
+  // Of its 12 folded faces, 9 are at the input's crossings and 2 next to them (more than the 8
+  // searched there); the last resort (untangle.h, search_unfolded) unfolds the one elsewhere.
+  CHECK(before.folds_searched == 1);
+  CHECK(before.folds_mended_by_search == 1);
+  CHECK(before.flipped_triangles == before.flipped_where_input_crosses + before.flipped_near_input_crossings);
+  options.fold_search.evaluations = 0;  // without it, that face stays folded
+  const RemeshResult unsearched = remesh(input, options);
+  CHECK(unsearched.folds_searched == 0);
+  CHECK(unsearched.flipped_triangles == before.flipped_triangles + 1);
 }
 
 TEST_CASE("Turbine at ~16x: no folded face, within 85 dB", "[corpus][remesh][pipeline][heavy]") {
