@@ -113,9 +113,12 @@ class Patch {
   /// equal verdicts the search prefers faces that face the input well and stay on it).
   void judge(std::size_t i) {
     const std::uint32_t* t = &triangles_[3 * std::size_t{faces_[i]}];
-    folded_[i] = is_folded(x_, t, surface_, diagonal_) ? 1 : 0;
-    const Vec3 a = at(x_, t[0]), b = at(x_, t[1]), c = at(x_, t[2]);
-    const SurfacePoint s = surface_.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
+    SurfacePoint s;  // the verdict's closest point, one query for both
+    folded_[i] = is_folded(x_, t, surface_, diagonal_, nullptr, &s) ? 1 : 0;
+    if (s.face == kNone) {  // degenerate: judged without a query
+      const Vec3 a = at(x_, t[0]), b = at(x_, t[1]), c = at(x_, t[2]);
+      s = surface_.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
+    }
     const TriangleMesh& input = surface_.mesh();
     const Vec3 n = unit(face_normal(x_, t)), m = unit(face_normal(input.positions, &input.triangles[3 * std::size_t{s.face}]));
     const double missing = std::max(0.0, 0.2 - dot(n, m));

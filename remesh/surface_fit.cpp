@@ -369,11 +369,13 @@ std::vector<std::array<double, 3>> edge_frame_normals(const TriangleTopology& co
   return normals;
 }
 
-bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, std::uint32_t* hint) {
+bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, std::uint32_t* hint,
+                SurfacePoint* closest) {
   const Vec a = at(x, t[0]), b = at(x, t[1]), c = at(x, t[2]);
   const SurfacePoint s = surface.closest({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3},
                                          hint ? *hint : kNone);
   if (hint) *hint = s.face;
+  if (closest) *closest = s;
   const TriangleMesh& input = surface.mesh();
   return dot(cross(sub(b, a), sub(c, a)), face_normal(input.positions, &input.triangles[3 * std::size_t{s.face}])) < 0;
 }
@@ -394,8 +396,8 @@ bool is_degenerate(const std::array<double, 3>& normal, double diagonal) {
 }
 
 bool is_folded(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, double diagonal,
-               std::uint32_t* hint) {
-  return is_degenerate(face_normal(x, t), diagonal) || faces_away(x, t, surface, hint);
+               std::uint32_t* hint, SurfacePoint* closest) {
+  return is_degenerate(face_normal(x, t), diagonal) || faces_away(x, t, surface, hint, closest);
 }
 
 FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surface) {

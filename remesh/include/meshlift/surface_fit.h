@@ -87,9 +87,10 @@ std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std
 /// normal makes more than 90° with that of the surface face closest to its centroid. `hint`, if
 /// given, holds a surface face likely near (kNone: none) and receives the closest one: a query
 /// started there is faster when faces are tested in an order that keeps neighbours together
-/// (the answer does not depend on it: closest_point.h).
+/// (the answer does not depend on it: closest_point.h). `closest`, if given, receives the surface
+/// point closest to the centroid that the test read.
 bool faces_away(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
-                std::uint32_t* hint = nullptr);
+                std::uint32_t* hint = nullptr, SurfacePoint* closest = nullptr);
 
 /// Rounds the positions of `mesh` to 32-bit floats, the values a mesh file stores (mesh_io.h),
 /// and returns the folds (find_fold_overs()) of the rounded finest level. Rounding moves a
@@ -103,8 +104,9 @@ bool faces_away(std::span<const double> x, const std::uint32_t* t, const Surface
 FoldOvers round_to_float(SemiRegularMesh& mesh, const SurfaceQuery& surface);
 
 /// find_fold_overs()'s verdict on face t of the xyz array x, in a mesh of bounding-box diagonal
-/// `diagonal`: degenerate (is_degenerate()) or facing away (faces_away(), with its `hint`).
+/// `diagonal`: degenerate (is_degenerate()) or facing away (faces_away(), with its `hint` and
+/// `closest`; a degenerate face is judged without the query, and `closest` is left as it was).
 bool is_folded(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface, double diagonal,
-               std::uint32_t* hint = nullptr);
+               std::uint32_t* hint = nullptr, SurfacePoint* closest = nullptr);
 
 }  // namespace meshlift
