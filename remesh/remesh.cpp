@@ -151,11 +151,9 @@ void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const Fol
     const std::vector<std::uint8_t>& at_crossing = crossing();
     const std::vector<std::uint32_t>& finest = result.mesh.hierarchy.triangles(result.mesh.hierarchy.levels());
     std::vector<std::uint32_t> faces = stored.degenerate, at_crossings;
-    for (const std::uint32_t f : stored.flipped) {
-      std::uint32_t closest = kNone;
-      faces_away(result.mesh.positions, &finest[3 * std::size_t{f}], surface, &closest);
-      (closest < at_crossing.size() && at_crossing[closest] != 0 ? at_crossings : faces).push_back(f);
-    }
+    for (const std::uint32_t f : stored.flipped)
+      (closest_is_marked(result.mesh.positions, &finest[3 * std::size_t{f}], surface, at_crossing) ? at_crossings : faces)
+          .push_back(f);
     if (at_crossings.size() <= kSearchedAtCrossings) faces.insert(faces.end(), at_crossings.begin(), at_crossings.end());
     const FoldSearchReport searched = search_unfolded(result.mesh, surface, faces, search);
     result.folds_searched = searched.tried;

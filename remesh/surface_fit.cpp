@@ -383,12 +383,16 @@ bool faces_away(std::span<const double> x, const std::uint32_t* t, const Surface
 std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std::uint32_t> flipped,
                                const SurfaceQuery& surface, std::span<const std::uint8_t> crossing) {
   std::size_t count = 0;
-  for (const std::uint32_t f : flipped) {
-    std::uint32_t closest = kNone;
-    faces_away(remeshed.positions, &remeshed.triangles[3 * std::size_t{f}], surface, &closest);
-    count += closest < crossing.size() && crossing[closest] != 0;
-  }
+  for (const std::uint32_t f : flipped)
+    count += closest_is_marked(remeshed.positions, &remeshed.triangles[3 * std::size_t{f}], surface, crossing);
   return count;
+}
+
+bool closest_is_marked(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
+                       std::span<const std::uint8_t> marked) {
+  std::uint32_t closest = kNone;
+  faces_away(x, t, surface, &closest);
+  return closest < marked.size() && marked[closest] != 0;
 }
 
 bool is_degenerate(const std::array<double, 3>& normal, double diagonal) {

@@ -83,6 +83,12 @@ FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surf
 std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std::uint32_t> flipped,
                                const SurfaceQuery& surface, std::span<const std::uint8_t> crossing);
 
+/// Whether the surface face closest to the centroid of face t of the xyz array x (the flip
+/// test's reference, faces_away()) is marked in `marked` (per surface face): count_at_crossings()
+/// for one face.
+bool closest_is_marked(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
+                       std::span<const std::uint8_t> marked);
+
 /// The flip test of find_fold_overs() for face t (three vertex indices) of the xyz array x: its
 /// normal makes more than 90° with that of the surface face closest to its centroid. `hint`, if
 /// given, holds a surface face likely near (kNone: none) and receives the closest one: a query
