@@ -9,6 +9,7 @@
 // of the moves are kept: ln(1/0.97) / ln(1.5/0.97)).
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -83,8 +84,8 @@ class Patch {
   const Vec3& start(std::size_t i) const { return start_[i]; }
   /// The input's closest point to p.
   Vec3 closest(const Vec3& p) const { return surface_.closest(p).point; }
-  int folded() const { return count(folded_.begin(), folded_.end()); }
-  double shortfall() const { return sum(shortfall_); }
+  int folded() const { return static_cast<int>(std::count(folded_.begin(), folded_.end(), std::uint8_t{1})); }
+  double shortfall() const { return std::accumulate(shortfall_.begin(), shortfall_.end(), 0.0); }
 
   /// Moves vertex i to p (a mesh file stores floats); the patch's folded count and shortfall
   /// change with its faces'.
@@ -98,14 +99,6 @@ class Patch {
     for (std::size_t k = 0; k < 3; ++k) x_[3 * std::size_t{v} + k] = p[k];
     for (std::uint32_t a = adjacency_.face_offsets[v]; a < adjacency_.face_offsets[v + 1]; ++a)
       judge(static_cast<std::size_t>(std::lower_bound(faces_.begin(), faces_.end(), adjacency_.faces[a]) - faces_.begin()));
-  }
-  static int count(std::vector<std::uint8_t>::const_iterator b, std::vector<std::uint8_t>::const_iterator e) {
-    return static_cast<int>(std::count(b, e, std::uint8_t{1}));
-  }
-  static double sum(const std::vector<double>& v) {
-    double s = 0;
-    for (const double d : v) s += d;
-    return s;
   }
   /// Face i's verdict (is_folded(), find_fold_overs()'s) and its shortfall: how far the cosine
   /// between its normal and the input's at its centroid's closest point is below 0.2, squared,
@@ -212,11 +205,17 @@ bool search_patch(Patch& patch, int evaluations, double reach, std::uint64_t see
 
 }  // namespace
 
-FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surface,
-                                 std::span<const std::uint32_t> faces, const FoldSearchOptions& options) {
+std::string out_of_range(const FoldSearchOptions& options) {
   if (options.evaluations < 0 || options.first_rings < 1 || options.max_rings < options.first_rings ||
       options.attempts < 1 || !(options.reach > 0))
-    throw std::invalid_argument("search_unfolded: evaluations >= 0, 1 <= first_rings <= max_rings, attempts >= 1, reach > 0");
+    return "evaluations must be >= 0, 1 <= first_rings <= max_rings, attempts >= 1 and reach > 0";
+  return {};
+}
+
+FoldSearchReport search_unfolded(SemiRegularMesh& mesh, const SurfaceQuery& surface,
+                                 std::span<const std::uint32_t> faces, const FoldSearchOptions& options) {
+  if (const std::string problem = out_of_range(options); !problem.empty())
+    throw std::invalid_argument("search_unfolded: " + problem);
   FoldSearchReport report;
   if (faces.empty() || options.evaluations == 0) return report;
   const int L = mesh.hierarchy.levels();

@@ -500,9 +500,8 @@ namespace {
 /// levels went from 0 folded faces to 4).
 RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& options, bool as_stored) {
   if (options.least_squares_rounds < 0) throw MeshError("least_squares_rounds must be >= 0");
-  if (const FoldSearchOptions& s = options.fold_search; s.evaluations < 0 || s.first_rings < 1 ||
-                                                         s.max_rings < s.first_rings || s.attempts < 1 || !(s.reach > 0))
-    throw MeshError("fold_search: evaluations >= 0, 1 <= first_rings <= max_rings, attempts >= 1, reach > 0");
+  if (const std::string problem = out_of_range(options.fold_search); !problem.empty())
+    throw MeshError("fold_search: " + problem);
   if (options.missing_part_rounds < 0 || !(options.missing_part_distance >= 0))
     throw MeshError("missing_part_rounds and missing_part_distance must be >= 0");
   if (std::isnan(options.give_up_margin)) throw MeshError("give_up_margin must be a number (infinity: never give up)");

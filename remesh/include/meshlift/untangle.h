@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 
 #include "meshlift/closest_point.h"
 #include "meshlift/semi_regular.h"
@@ -87,6 +88,10 @@ struct FoldSearchOptions {
   /// search.
   std::uint64_t seed = 0;
 };
+
+/// Empty where `options` are in range, else what is out of range (search_unfolded() throws it;
+/// remesh() checks RemeshOptions::fold_search with it before any work).
+std::string out_of_range(const FoldSearchOptions& options);
 
 struct FoldSearchReport {
   std::size_t tried = 0;   ///< faces searched around (a face mended by another's search is not)
