@@ -250,17 +250,17 @@ TEST_CASE("search_unfolded unfolds a face by moving the vertices around it, in f
   options.evaluations = 0;
   CHECK(search_unfolded(mesh, sphere, faces, options).tried == 0);
   CHECK(mesh.positions == tangled);
-  // Options out of range.
-  options = {};
-  options.first_rings = 0;
-  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
-  options = {};
-  options.max_rings = 0;
-  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
-  options = {};
-  options.reach = 0;
-  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
-  options = {};
-  options.attempts = 0;
-  CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
+  // Options out of range, each alone: out_of_range() names them and search_unfolded() throws.
+  const auto first_rings = [](FoldSearchOptions& o) { o.first_rings = 0; };
+  const auto max_rings = [](FoldSearchOptions& o) { o.max_rings = 0; };
+  const auto reach = [](FoldSearchOptions& o) { o.reach = 0; };
+  const auto attempts = [](FoldSearchOptions& o) { o.attempts = 0; };
+  const auto evaluations = [](FoldSearchOptions& o) { o.evaluations = -1; };
+  CHECK(out_of_range(FoldSearchOptions{}).empty());
+  for (void (*spoil)(FoldSearchOptions&) : {+first_rings, +max_rings, +reach, +attempts, +evaluations}) {
+    options = {};
+    spoil(options);
+    CHECK_FALSE(out_of_range(options).empty());
+    CHECK_THROWS_AS(search_unfolded(mesh, sphere, faces, options), std::invalid_argument);
+  }
 }
