@@ -139,11 +139,12 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// Then, where faces still fold, the last resort, search_unfolded() (untangle.h): around each
 /// one away from the input's crossings first (`crossing`: per input face, 1 where it cuts
 /// through another or lies within two rings of one, computed only where needed), where an
-/// orientation that faces the input exists; then around those at or next to the crossings, if
-/// there are kSearchedAtCrossings or fewer (cow at L = 6 has one, mannequin-devil 528: searching
-/// 32 of those took 33-63 s and unfolded 9-10). At L = 6 it leaves turbine, homer, cow and armadillo
-/// without a fold (docs/RESULTS.md, "The folds left at L = 6, mended by a search").
-constexpr std::size_t kSearchedAtCrossings = 8;
+/// orientation that faces the input exists; then around those at or next to the crossings, as
+/// far as the search's cap on faces (FoldSearchOptions::max_faces) allows. At L = 6 it leaves
+/// turbine, homer, cow and armadillo without a fold, and mannequin-devil at L = 4 (12 of its
+/// faces folded there, 11 at its crossings); at L = 5 mannequin-devil's 110 become 54, in 18 s
+/// (docs/RESULTS.md, "The folds left at L = 6, mended by a search", and "Folds at the input's
+/// crossings searched too").
 void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const FoldSearchOptions& search,
                     const std::function<const std::vector<std::uint8_t>&()>& crossing) {
   FoldOvers stored = round_to_float(result.mesh, surface);
@@ -154,7 +155,7 @@ void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const Fol
     for (const std::uint32_t f : stored.flipped)
       (closest_is_marked(result.mesh.positions, &finest[3 * std::size_t{f}], surface, at_crossing) ? at_crossings : faces)
           .push_back(f);
-    if (at_crossings.size() <= kSearchedAtCrossings) faces.insert(faces.end(), at_crossings.begin(), at_crossings.end());
+    faces.insert(faces.end(), at_crossings.begin(), at_crossings.end());
     const FoldSearchReport searched = search_unfolded(result.mesh, surface, faces, search);
     result.folds_searched = searched.tried;
     result.folds_mended_by_search = searched.mended;

@@ -151,7 +151,7 @@ struct RemeshOptions {
   /// The last resort for the faces still folded in the remesh returned: a search over the
   /// vertices around each (untangle.h, search_unfolded()), first around those more than two
   /// rings of input faces away from the input's crossings, then around those at or next to
-  /// them where there are 8 or fewer; `evaluations = 0` turns it off.
+  /// them, up to its cap on faces (max_faces) in all; `evaluations = 0` turns it off.
   FoldSearchOptions fold_search{};
   /// Deep hierarchies, level by level: a remesh of this many levels or more whose base is the
   /// one its remesh of a level fewer has (the base size given, or a decimation that stops at its
