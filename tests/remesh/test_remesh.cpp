@@ -226,8 +226,8 @@ TEST_CASE("Development meshes that still fold fold only where the input passes t
   // a remesh face there may have one of those as the closest input face to its centroid, where
   // no orientation agrees with both sheets; mannequin-devil (1643 pairs) likewise (its automatic
   // density is this 4x). The bounds are the current counts, so that a change that folds more is
-  // seen: cow 0 and mannequin-devil 0 of ~103,000 (4 until the last resort searched at the
-  // crossings too: it unfolds all 3 it tries there, remesh.cpp). The untangling's vertex passes search the
+  // seen: cow 0 and mannequin-devil 0 of ~103,000 (4 before the last resort, search_unfolded():
+  // its 3 searches at the crossings unfold all 4). The untangling's vertex passes search the
   // fold test itself where their linear program finds nothing (before that 2 and 7, and 8 for
   // mannequin-devil while degenerate faces counted as folded without that search:
   // docs/RESULTS.md, "Direct search"); since its patches also try relaxation on the input,
