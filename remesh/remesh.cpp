@@ -130,39 +130,48 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
   return mesh;
 }
 
-/// The remesh as a mesh file stores it (mesh_io.h: 32-bit floats, which every reader parses):
-/// round_to_float() (surface_fit.h), its fold counts those of the rounded positions. Made on the
-/// chosen remesh only: the choices before it (densities, missing parts) are made on the double
-/// positions, as before; rounding every candidate instead changed them (turbine at L = 4: 80.4
-/// -> 56.8 dB, its missing parts no longer kept), and so does a remesh of a level fewer refined
-/// from rounded positions (remesh_levels()).
-/// Then, where faces still fold, the last resort, search_unfolded() (untangle.h): around each
-/// one away from the input's crossings first (`crossing`: per input face, 1 where it cuts
-/// through another or lies within two rings of one, computed only where needed), where an
-/// orientation that faces the input exists; then around those at or next to the crossings, as
-/// far as the search's cap on faces (FoldSearchOptions::max_faces) allows. At L = 6 it leaves
-/// turbine, homer, cow and armadillo without a fold, and mannequin-devil at L = 4 (12 of its
-/// faces folded there, 11 at its crossings); at L = 5 mannequin-devil's 110 become 54, in 18 s
-/// (docs/RESULTS.md, "The folds left at L = 6, mended by a search", and "Folds at the input's
-/// crossings searched too").
-void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const FoldSearchOptions& search,
-                    const std::function<const std::vector<std::uint8_t>&()>& crossing) {
-  FoldOvers stored = round_to_float(result.mesh, surface);
-  if (search.evaluations > 0 && !(stored.flipped.empty() && stored.degenerate.empty())) {
+/// The last resort, search_unfolded() (untangle.h), around the faces of `folds` (the remesh's
+/// folded and degenerate faces): around each one away from the input's crossings first
+/// (`crossing`: per input face, 1 where it cuts through another or lies within two rings of one,
+/// computed only where needed), where an orientation that faces the input exists; then around
+/// those at or next to the crossings, as far as the search's cap on faces
+/// (FoldSearchOptions::max_faces) allows. Sets the result's fold counts. Run on the remesh
+/// returned (store_as_float) and on the remesh of a level fewer that a deep hierarchy refines once
+/// more (remesh_levels()), so that a fold there is not refined into more. At L = 6 it leaves
+/// turbine, homer, cow and armadillo without a fold. Mannequin-devil, whose input passes through
+/// itself, folds 12 faces at L = 4 without it, none with it; at L = 5 110, 54 with it on the
+/// remesh returned, 46 with it on the level below too; at L = 6 528, 517, 424 (docs/RESULTS.md,
+/// "The folds left at L = 6, mended by a search", and "Folds at the input's crossings searched too").
+void search_folds(RemeshResult& result, FoldOvers folds, const SurfaceQuery& surface, const FoldSearchOptions& search,
+                  const std::function<const std::vector<std::uint8_t>&()>& crossing) {
+  result.folds_searched = result.folds_mended_by_search = 0;  // not those of a level fewer
+  if (search.evaluations > 0 && !(folds.flipped.empty() && folds.degenerate.empty())) {
     const std::vector<std::uint8_t>& at_crossing = crossing();
     const std::vector<std::uint32_t>& finest = result.mesh.hierarchy.triangles(result.mesh.hierarchy.levels());
-    std::vector<std::uint32_t> faces = stored.degenerate, at_crossings;
-    for (const std::uint32_t f : stored.flipped)
+    std::vector<std::uint32_t> faces = folds.degenerate, at_crossings;
+    for (const std::uint32_t f : folds.flipped)
       (closest_is_marked(result.mesh.positions, &finest[3 * std::size_t{f}], surface, at_crossing) ? at_crossings : faces)
           .push_back(f);
     faces.insert(faces.end(), at_crossings.begin(), at_crossings.end());
     const FoldSearchReport searched = search_unfolded(result.mesh, surface, faces, search);
     result.folds_searched = searched.tried;
     result.folds_mended_by_search = searched.mended;
-    if (searched.mended > 0) stored = find_fold_overs(result.mesh.finest(), surface);
+    if (searched.mended > 0) folds = find_fold_overs(result.mesh.finest(), surface);
   }
-  result.flipped_triangles = stored.flipped.size();
-  result.degenerate_triangles = stored.degenerate.size();
+  result.flipped_triangles = folds.flipped.size();
+  result.degenerate_triangles = folds.degenerate.size();
+}
+
+/// The remesh as a mesh file stores it (mesh_io.h: 32-bit floats, which every reader parses):
+/// round_to_float() (surface_fit.h), its fold counts those of the rounded positions. Made on the
+/// chosen remesh only: the choices before it (densities, missing parts) are made on the double
+/// positions, as before; rounding every candidate instead changed them (turbine at L = 4: 80.4
+/// -> 56.8 dB, its missing parts no longer kept), and so does a remesh of a level fewer refined
+/// from rounded positions (remesh_levels()).
+/// Then, where faces still fold, the last resort (search_folds()).
+void store_as_float(RemeshResult& result, const SurfaceQuery& surface, const FoldSearchOptions& search,
+                    const std::function<const std::vector<std::uint8_t>&()>& crossing) {
+  search_folds(result, round_to_float(result.mesh, surface), surface, search, crossing);
 }
 
 /// A placement's last stage: the least-squares fit, then the untangling once more (the solve
@@ -627,13 +636,21 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     result.flipped_where_input_crosses = count_at_crossings(finest, flipped, surface, crossing);
     result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, near_crossing_marks());
   };
-  if (options.method == RemeshMethod::sphere) {
-    RemeshResult result = by_sphere(options.levels);
+  // The chosen remesh's last step: stored as floats (and searched where it folds), or, left in
+  // double for a deeper level to refine, only searched (search_folds()).
+  auto last_step = [&](RemeshResult& result) {
+    StageClock clock(result.stage_seconds);
     if (as_stored) {
-      StageClock clock(result.stage_seconds);
       store_as_float(result, surface, options.fold_search, by_crossing_marks);
       clock.lap("store as float");
+    } else {
+      search_folds(result, find_fold_overs(result.mesh.finest(), surface), surface, options.fold_search, by_crossing_marks);
+      clock.lap("search the folds");
     }
+  };
+  if (options.method == RemeshMethod::sphere) {
+    RemeshResult result = by_sphere(options.levels);
+    last_step(result);
     note_crossings(result);
     report(1);
     return result;
@@ -1116,11 +1133,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     if (sphere_closer) result = std::move(sphere);
     result.stage_seconds = std::move(stages);
   }
-  if (as_stored) {
-    StageClock clock(result.stage_seconds);
-    store_as_float(result, surface, options.fold_search, by_crossing_marks);
-    clock.lap("store as float");
-  }
+  last_step(result);
   note_crossings(result);
   report(1);
   return result;

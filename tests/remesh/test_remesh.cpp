@@ -581,6 +581,7 @@ TEST_CASE("A deep hierarchy over the base of a level fewer is that remesh refine
   CHECK(fractions.back() == 1);
   CHECK(deep.direct_levels == 2);
   CHECK(count(deep, "refine once more") == 1);
+  CHECK(count(deep, "search the folds") == 1);  // the remesh of two levels, before it is refined
   CHECK(deep.flipped_triangles + deep.degenerate_triangles == 0);
   options.level_by_level_from = 0;
   const RemeshResult direct = remesh(input, options);
