@@ -176,11 +176,10 @@ DecodeResult prepare(const ParsedStream& stream, const DecodeLimits& limits, Pre
   try {
     // Without the finest level's faces until the end (the largest array; nothing reads it before)
     // and without the stored coefficient tree (the Forest reads it off the topologies). Without
-    // the topology of level L - 1 either (but for the mean-preserving update's tables): the
-    // synthesis, the frames and the output faces read it off level L - 2 (a quarter of the
-    // size), and the Forest never reads it.
-    out.hierarchy.emplace(std::move(base), header.levels, false, false,
-                          header.scheme != Scheme::loop && header.mean_preserving_update);
+    // the topology of level L - 1 either: the synthesis (the mean-preserving update's too), the
+    // frames and the output faces read it off level L - 2 (a quarter of the size), and the
+    // Forest never reads it.
+    out.hierarchy.emplace(std::move(base), header.levels, false, false, false);
   } catch (const std::bad_alloc&) {
     return failure(Status::limit_exceeded, "not enough memory to decode this stream");
   } catch (const MeshError& e) {

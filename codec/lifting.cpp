@@ -302,6 +302,62 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
     for (const LiftingStep& step : steps_[j]) apply_step<true>(step, values.data(), channels, concurrent);
 }
 
+namespace {
+
+/// The synthesis step of the mean-preserving update (stencils::mean_preserving_update) without
+/// its table: each even vertex v of the level (the vertices below `first_odd`) gets
+/// x[v] += -lambda_v x[first_odd + e] for its edges e in increasing order, lambda_v from the predict
+/// step's column sum at v. Those are the operations of v's row in their order (the scale 1 term,
+/// then the sources in table order), so the bits are the table's. `edge(e, k)` is endpoint k of
+/// the level's edge e, for e in increasing order below `edges`; x holds `channels` values per vertex.
+template <class Endpoint>
+void inverse_update(std::uint32_t first_odd, std::uint32_t edges, Endpoint&& edge, std::span<const double> column_sum,
+                    double* x, int channels) {
+  const auto n = static_cast<std::size_t>(channels);
+  std::vector<double> weight(first_odd);
+  for (std::uint32_t v = 0; v < first_odd; ++v) weight[v] = -stencils::update_weight(column_sum[v]);
+  for (std::uint32_t e = 0; e < edges; ++e) {
+    const double* detail = x + (std::size_t{first_odd} + e) * n;
+    for (std::uint32_t k = 0; k < 2; ++k) {
+      const std::uint32_t v = edge(e, k);
+      const double w = weight[v];
+      double* even = x + std::size_t{v} * n;
+      for (std::size_t c = 0; c < n; ++c) even[c] += w * detail[c];
+    }
+  }
+}
+
+/// inverse_update() over the level `level` of `hierarchy`: its edges from its own topology at the
+/// base, else read off the level below (TriangleTopology::refined(): edge p = (a, b) of the level
+/// below, with midpoint m, has the halves 2p = (a, m) and 2p + 1 = (m, b); face f's inner edge
+/// 2E + 3f + i joins the midpoints of its edges i + 2 and i + 1), whose topology the decoder keeps
+/// (a quarter of the size).
+void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> column_sum,
+                          double* x, int channels) {
+  const std::uint32_t first_odd = hierarchy.vertex_count(level);
+  const auto edges = static_cast<std::uint32_t>(hierarchy.vertex_count(level + 1) - first_odd);
+  if (level == 0) {
+    const std::uint32_t* ends = hierarchy.topology(0).edge_vertices.data();
+    inverse_update(first_odd, edges, [ends](std::uint32_t e, std::uint32_t k) { return ends[2 * std::size_t{e} + k]; },
+                   column_sum, x, channels);
+    return;
+  }
+  const TriangleTopology& coarse = hierarchy.topology(level - 1);
+  const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
+  const std::uint32_t* ends = coarse.edge_vertices.data();
+  const std::uint32_t* face_edges = coarse.face_edges.data();
+  inverse_update(
+      first_odd, edges,
+      [=](std::uint32_t e, std::uint32_t k) -> std::uint32_t {
+        if (e < 2 * E) return (e & 1) != k ? V + (e >> 1) : ends[2 * std::size_t{e >> 1} + (e & 1)];
+        const std::uint32_t f = (e - 2 * E) / 3, i = (e - 2 * E) % 3;
+        return V + face_edges[3 * std::size_t{f} + (k == 0 ? (i + 2) % 3 : (i + 1) % 3)];
+      },
+      column_sum, x, channels);
+}
+
+}  // namespace
+
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels) {
   synthesize_level(hierarchy, options, level, values, channels, {});
@@ -321,19 +377,35 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     if (before_odd && step.first_target >= first_odd) before_odd(step.first_target, step.row_count);
     apply_step<true>(step, values.data(), channels);
   };
-  if (options.scheme != Scheme::loop && !options.mean_preserving_update) {
+  if (options.scheme != Scheme::loop) {
     // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources. Above the base its
     // rows are read off the level below (a quarter of the size; the level's own topology is not
     // needed).
     constexpr std::uint32_t kBlockRows = 8192;
-    if (level == 0)
-      stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, apply);
-    else
-      stencils::refined_predict_blocks(hierarchy.topology(level - 1), options.scheme, kBlockRows, apply, concurrent);
+    auto predict_blocks = [&](const std::function<void(const LiftingStep&)>& each, bool on_two_threads) {
+      if (level == 0)
+        stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, each);
+      else
+        stencils::refined_predict_blocks(hierarchy.topology(level - 1), options.scheme, kBlockRows, each, on_two_threads);
+    };
+    if (!options.mean_preserving_update) {
+      predict_blocks(apply, concurrent);
+      return;
+    }
+    // With the mean-preserving update, its step first, without the tables of either step: the
+    // predict rows' column sums over its blocks in order (one thread: the sums' order is the
+    // table's), every odd vertex made ready (the update reads them all), the update, then the
+    // predict rows as above.
+    std::vector<double> column_sum(first_odd, 0.0);
+    run_both(
+        concurrent, [&] { if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd); },
+        [&] { predict_blocks([&](const LiftingStep& block) { stencils::add_column_sums(block, column_sum); }, false); });
+    inverse_update_level(hierarchy, level, column_sum, values.data(), channels);
+    predict_blocks([&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); }, concurrent);
     return;
   }
-  if (options.scheme != Scheme::loop || level == 0) {
-    // The level's tables; with the mean-preserving update its first step reads the odd vertices.
+  if (level == 0) {
+    // Loop's base level: its tables (its update step reads the odd vertices).
     if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd);
     WaveletTransform(hierarchy, options, level, level + 1).synthesize(values, channels, level + 1, level);
     return;

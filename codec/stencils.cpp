@@ -904,23 +904,25 @@ void loop_update_blocks(const TriangleTopology& coarse, std::uint32_t fine_verti
   });
 }
 
-LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep& predict) {
-  // c_l = sum over odd k of p(k, l): how much of the fine signal even vertex l predicts.
-  std::vector<double> column_sum(t.vertex_count, 0.0);
+void add_column_sums(const LiftingStep& predict, std::span<double> column_sum) {
   const std::uint32_t* source = predict.indices.data();
   for (const LiftingStep::Run& run : predict.runs) {
     const LiftingStep::Pattern& p = predict.patterns[run.pattern];
     for (std::uint32_t r = 0; r < run.rows; ++r)
       for (std::uint32_t k = 0; k < p.arity; ++k) column_sum[*source++] += predict.pattern_weights[p.first_weight + k];
   }
+}
+
+LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep& predict) {
+  // c_l = sum over odd k of p(k, l): how much of the fine signal even vertex l predicts.
+  std::vector<double> column_sum(t.vertex_count, 0.0);
+  add_column_sums(predict, column_sum);
   StepWriter step(0, 2 * t.edge_count());
   std::vector<double> weights;
   append_vertex_rows(
       step, t, t.vertex_count, false, [V = t.vertex_count](std::uint32_t e, std::uint32_t) { return V + e; },
       [&](std::uint32_t v, std::uint32_t n, bool) {
-        const double mass = 1.0 + column_sum[v];
-        const double lambda = mass > 1e-3 ? 1.0 / (2.0 * mass) : 0.0;
-        weights.assign(n, -lambda);
+        weights.assign(n, -update_weight(column_sum[v]));
         return step.pattern(1.0, weights);
       });
   return step.finish();

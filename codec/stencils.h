@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "meshlift/lifting.h"
+#include <span>
+
 #include "meshlift/topology.h"
 
 namespace meshlift::stencils {
@@ -116,7 +118,21 @@ void loop_inner(const TriangleTopology& coarse, std::uint32_t begin, std::uint32
 
 /// Mean-preserving update for interpolating schemes (seed 003 eq. 5.9), as its synthesis
 /// (inverse) step: even = even~ - lambda_l * sum(adjacent details), lambda_l = 1 / (2 (1 + c_l)),
-/// c_l the column sum of `predict` at l (see lifting.cpp for the derivation from eq. 5.8).
+/// c_l the column sum of `predict` at l (see lifting.cpp for the derivation from eq. 5.8). The
+/// row of even vertex l takes its edges in increasing order.
 LiftingStep mean_preserving_update(const TriangleTopology& topology, const LiftingStep& predict);
+
+/// Adds each source's weights in the rows of `predict` to `column_sum` (indexed by source
+/// vertex), row after row in table order: over the blocks of predict_blocks() or
+/// refined_predict_blocks() in the order they come, the same sums, bit for bit, as over the whole
+/// step. \pre column_sum covers every source vertex.
+void add_column_sums(const LiftingStep& predict, std::span<double> column_sum);
+
+/// lambda_l of the mean-preserving update from the column sum c_l: 1 / (2 (1 + c_l)), or 0 where
+/// 1 + c_l <= 1e-3 (a vertex the prediction hardly reads).
+inline double update_weight(double column_sum) {
+  const double mass = 1.0 + column_sum;
+  return mass > 1e-3 ? 1.0 / (2.0 * mass) : 0.0;
+}
 
 }  // namespace meshlift::stencils

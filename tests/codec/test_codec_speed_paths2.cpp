@@ -200,15 +200,18 @@ TEST_CASE("a hierarchy without the topology below its finest level gives the sam
       frames::rotate_details(full, levels - 1, values, from_full, 4, frames::Direction::to_local);
       frames::rotate_details(lean, levels - 1, values, from_lean, 4, frames::Direction::to_local);
       REQUIRE(same_bits(from_full, from_lean));
-      // The synthesis of that level, which needs only its vertex count (but with the
-      // mean-preserving update, whose tables are built from its topology).
-      for (Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop}) {
-        std::vector<double> synthesized_full = values, synthesized_lean = values;
-        synthesize_level(full, {scheme, false}, levels - 1, synthesized_full, 4);
-        synthesize_level(lean, {scheme, false}, levels - 1, synthesized_lean, 4);
-        INFO(to_string(scheme));
-        REQUIRE(same_bits(synthesized_full, synthesized_lean));
-      }
+      // The synthesis of that level, which needs only its vertex count (the mean-preserving
+      // update too: its edges are read off the level below), bit for bit the tables' synthesis.
+      for (Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop})
+        for (const bool update : {false, true}) {
+          std::vector<double> synthesized_full = values, synthesized_lean = values, tables = values;
+          synthesize_level(full, {scheme, update}, levels - 1, synthesized_full, 4);
+          synthesize_level(lean, {scheme, update}, levels - 1, synthesized_lean, 4);
+          WaveletTransform(full, {scheme, update}).synthesize(tables, 4, levels, levels - 1);
+          INFO(to_string(scheme) << (update ? " + update" : ""));
+          REQUIRE(same_bits(synthesized_full, synthesized_lean));
+          REQUIRE(same_bits(synthesized_full, tables));
+        }
       SemiRegularHierarchy released(topology_of(base), levels, false, false, false);
       REQUIRE(std::move(released).release_finest_triangles() == full.triangles(levels));
     }
