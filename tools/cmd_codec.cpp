@@ -86,7 +86,6 @@ Scheme least_energy_scheme(const SemiRegularMesh& mesh, bool mean_preserving_upd
 
 struct EncodeArgs {
   std::string input, output, scheme = "auto";
-  bool update = false;
   int bits = 16;
   FrameArgs frames;
   RemeshCliOptions remesh;
@@ -113,8 +112,7 @@ int run_encode(const EncodeArgs& a) {
   input = TriangleMesh{};
   const SemiRegularMesh* mesh = &remeshed->mesh;
   EncodeOptions options;
-  options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh, a.update) : parse_scheme(a.scheme);
-  options.mean_preserving_update = a.update;
+  options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh, a.frames.update) : parse_scheme(a.scheme);
   options.precision_bits = a.bits;
   apply_frame_options(a.frames, options);
   if (a.bytes > 0) options.max_bytes = a.bytes;
@@ -327,6 +325,11 @@ void add_frame_options(CLI::App& cmd, FrameArgs& args) {
                "code every bit plane of the base vertices in the embedded planes instead of their top planes "
                "predicted first (FORMAT.md 5.1; for rate-distortion experiments: more bits at every rate above "
                "the base part's)");
+  cmd.add_flag("--update,!--no-update", args.update,
+               "linear and butterfly: the lifting's mean-preserving update step, on by default (coarser levels smoothed, "
+               "not sampled: closer prefixes; BD-rate against Draco 0.1-8.3 points better on the development meshes); "
+               "--no-update leaves it out")
+      ->capture_default_str();
 }
 
 void register_encode(CLI::App& app, int& exit_code) {
@@ -339,7 +342,6 @@ void register_encode(CLI::App& app, int& exit_code) {
                  "(butterfly on remeshes, Loop on Loop-subdivided meshes)")
       ->check(CLI::IsMember({"auto", "linear", "butterfly", "loop"}))
       ->capture_default_str();
-  cmd->add_flag("--update", a->update, "mean-preserving update (linear, butterfly)");
   add_remesh_options(*cmd, a->remesh, "--remesh");
   cmd->add_option("--bits", a->bits, "precision of the finest bit plane: step = diagonal * 2^-bits")
       ->check(CLI::Range(1, 40));

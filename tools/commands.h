@@ -36,14 +36,17 @@ struct FrameArgs {
   std::string frames = "local";
   int tangent_shift = 2;
   bool no_base_prediction = false;
+  bool update = true;  ///< EncodeOptions::mean_preserving_update
 };
 void add_frame_options(CLI::App& cmd, FrameArgs& args);
-/// Sets local_frames, tangent_shift and predict_base of `options` (an EncodeOptions) from `args`.
+/// Sets local_frames, tangent_shift, predict_base and mean_preserving_update of `options` (an
+/// EncodeOptions) from `args`.
 template <class Options>
 void apply_frame_options(const FrameArgs& args, Options& options) {
   options.local_frames = args.frames == "local";
   options.tangent_shift = args.tangent_shift;
   options.predict_base = !args.no_base_prediction;
+  options.mean_preserving_update = args.update;
 }
 
 /// Refuses (returns false and prints why) when `output` names the same file as `input`.

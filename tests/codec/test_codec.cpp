@@ -809,6 +809,7 @@ TEST_CASE("golden stream: local frames and an extra channel", "[codec][golden]")
   const SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 2));
   EncodeOptions options;
   options.scheme = Scheme::butterfly;
+  options.mean_preserving_update = false;  // written before the update was on by default
   options.precision_bits = 12;
   options.local_frames = true;
   options.tangent_shift = 2;
@@ -816,6 +817,17 @@ TEST_CASE("golden stream: local frames and an extra channel", "[codec][golden]")
   const auto file = encode(mesh, options);
   const std::vector<std::uint8_t> golden = golden_stream("icosahedron_butterfly_L2_p12_frames_channels.mlz", file);
   CHECK(file == golden);
+  // The defaults a remesh is coded with (`meshlift encode`): butterfly with its mean-preserving
+  // update (header flag bit 0), local frames; no channels.
+  EncodeOptions defaults;
+  defaults.scheme = Scheme::butterfly;
+  defaults.precision_bits = 12;
+  const SemiRegularMesh plain = bumpy(test::icosahedron(), 2);
+  const auto updated = encode(plain, defaults);
+  const std::vector<std::uint8_t> updated_golden = golden_stream("icosahedron_butterfly_update_L2_p12.mlz", updated);
+  CHECK(updated == updated_golden);
+  CHECK(inspect(updated_golden).mean_preserving_update);
+  CHECK(decode(updated_golden).status == Status::ok);
   const DecodeResult r = decode(golden);
   REQUIRE(r.status == Status::ok);
   CHECK(r.channels.size() == 2);
