@@ -137,7 +137,8 @@ SemiRegularMesh place_refinement(const SemiRegularHierarchy& hierarchy, const st
 /// those at or next to the crossings, as far as the search's cap on faces
 /// (FoldSearchOptions::max_faces) allows. Sets the result's fold counts. Run on the remesh
 /// returned (store_as_float) and on the remesh of a level fewer that a deep hierarchy refines once
-/// more (remesh_levels()), so that a fold there is not refined into more. At L = 6 it leaves
+/// more (remesh_levels()), so that a fold there is not refined into more; the vertices it moves
+/// are rounded to floats (search_unfolded()). At L = 6 it leaves
 /// turbine, homer, cow and armadillo without a fold. Mannequin-devil, whose input passes through
 /// itself, folds 12 faces at L = 4 without it, none with it; at L = 5 110, 54 with it on the
 /// remesh returned, 46 with it on the level below too; at L = 6 528, 517, 424 (docs/RESULTS.md,
@@ -636,17 +637,13 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     result.flipped_where_input_crosses = count_at_crossings(finest, flipped, surface, crossing);
     result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, near_crossing_marks());
   };
-  // The chosen remesh's last step: stored as floats (and searched where it folds), or, left in
-  // double for a deeper level to refine, only searched (search_folds()).
+  // The chosen remesh's last step, where it is the one returned: stored as floats (and searched
+  // where it folds). A remesh a deeper level refines stays in double (its search is made there).
   auto last_step = [&](RemeshResult& result) {
+    if (!as_stored) return;
     StageClock clock(result.stage_seconds);
-    if (as_stored) {
-      store_as_float(result, surface, options.fold_search, by_crossing_marks);
-      clock.lap("store as float");
-    } else {
-      search_folds(result, find_fold_overs(result.mesh.finest(), surface), surface, options.fold_search, by_crossing_marks);
-      clock.lap("search the folds");
-    }
+    store_as_float(result, surface, options.fold_search, by_crossing_marks);
+    clock.lap("store as float");
   };
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);
@@ -895,6 +892,12 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     }
     stages.insert(stages.end(), above.stage_seconds.begin(), above.stage_seconds.end());
     StageClock clock(stages);
+    // Its folds searched first (search_folds()), so that a fold there is not refined into more:
+    // mannequin-devil at L = 5 54 -> 46 folded faces, at L = 6 517 -> 424 (docs/RESULTS.md,
+    // "Folds at the input's crossings searched too"). The vertices it moves are rounded to
+    // floats; the rest stays in double.
+    search_folds(above, find_fold_overs(above.mesh.finest(), surface), surface, options.fold_search, by_crossing_marks);
+    clock.lap("search the folds");
     RemeshResult r = refined_once_more(std::move(above), mesh, lines, surface, options.least_squares_rounds, options.snap,
                                        [&](double f) { report(deeper_share * (0.5 + 0.5 * f)); });
     r.target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(r.density);

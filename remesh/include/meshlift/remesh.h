@@ -148,10 +148,12 @@ struct RemeshOptions {
   /// crossings (a failed remesh: up to 16,384 input vertices at L = 3). 0 turns it off. (Where the decimation keeps half the input's vertices or more
   /// although fewer were asked for, the refinement is taken whatever this is.)
   double input_refinement_vertices = 65'536;
-  /// The last resort for the faces still folded in the remesh returned: a search over the
+  /// The last resort for the faces still folded in the remesh returned, and in the remesh of a
+  /// level fewer that a deep hierarchy refines once more (level_by_level_from): a search over the
   /// vertices around each (untangle.h, search_unfolded()), first around those more than two
   /// rings of input faces away from the input's crossings, then around those at or next to
   /// them, up to its cap on faces (max_faces) in all; `evaluations = 0` turns it off.
+  /// folds_searched and folds_mended_by_search count the search of the remesh returned.
   FoldSearchOptions fold_search{};
   /// Deep hierarchies, level by level: a remesh of this many levels or more whose base is the
   /// one its remesh of a level fewer has (the base size given, or a decimation that stops at its
