@@ -307,14 +307,16 @@ namespace {
 /// The synthesis step of the mean-preserving update (stencils::mean_preserving_update) without
 /// its table: each even vertex v of the level (the vertices below `first_odd`) gets
 /// x[v] += -lambda_v x[first_odd + e] for its edges e in increasing order, lambda_v from the predict
-/// step's column sum at v. Those are the operations of v's row in their order (the scale 1 term,
-/// then the sources in table order), so the bits are the table's. `edge(e, k)` is endpoint k of
-/// the level's edge e, for e in increasing order below `edges`; x holds `channels` values per vertex.
+/// step's column sum at v (seed 003 eq. 5.9, docs/WAVELETS.md). Those are the operations of v's
+/// row in their order (the scale 1 term, then the sources in table order), so the bits are the
+/// table's. `edge(e, k)` is endpoint k of the level's edge e, for e in increasing order below
+/// `edges`; x holds `channels` values per vertex. `column_sum` is overwritten.
 template <class Endpoint>
-void inverse_update(std::uint32_t first_odd, std::uint32_t edges, Endpoint&& edge, std::span<const double> column_sum,
+void inverse_update(std::uint32_t first_odd, std::uint32_t edges, Endpoint&& edge, std::span<double> column_sum,
                     double* x, int channels) {
   const auto n = static_cast<std::size_t>(channels);
-  std::vector<double> weight(first_odd);
+  // Each vertex's weight in its row, -lambda_v, in place of its column sum.
+  std::span<double> weight = column_sum;
   for (std::uint32_t v = 0; v < first_odd; ++v) weight[v] = -stencils::update_weight(column_sum[v]);
   for (std::uint32_t e = 0; e < edges; ++e) {
     const double* detail = x + (std::size_t{first_odd} + e) * n;
@@ -332,7 +334,7 @@ void inverse_update(std::uint32_t first_odd, std::uint32_t edges, Endpoint&& edg
 /// below, with midpoint m, has the halves 2p = (a, m) and 2p + 1 = (m, b); face f's inner edge
 /// 2E + 3f + i joins the midpoints of its edges i + 2 and i + 1), whose topology the decoder keeps
 /// (a quarter of the size).
-void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> column_sum,
+void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std::span<double> column_sum,
                           double* x, int channels) {
   const std::uint32_t first_odd = hierarchy.vertex_count(level);
   const auto edges = static_cast<std::uint32_t>(hierarchy.vertex_count(level + 1) - first_odd);
@@ -395,7 +397,9 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     // With the mean-preserving update, its step first, without the tables of either step: the
     // predict rows' column sums over its blocks in order (one thread: the sums' order is the
     // table's), every odd vertex made ready (the update reads them all), the update, then the
-    // predict rows as above.
+    // predict rows as above. The first two side by side: the sums read only the topology and
+    // write only `column_sum`; before_odd writes only odd vertices; run_both joins both before
+    // the update reads them.
     std::vector<double> column_sum(first_odd, 0.0);
     run_both(
         concurrent, [&] { if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd); },

@@ -4,11 +4,10 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "meshlift/lifting.h"
-#include <span>
-
 #include "meshlift/topology.h"
 
 namespace meshlift::stencils {
@@ -128,8 +127,9 @@ LiftingStep mean_preserving_update(const TriangleTopology& topology, const Lifti
 /// step. \pre column_sum covers every source vertex.
 void add_column_sums(const LiftingStep& predict, std::span<double> column_sum);
 
-/// lambda_l of the mean-preserving update from the column sum c_l: 1 / (2 (1 + c_l)), or 0 where
-/// 1 + c_l <= 1e-3 (a vertex the prediction hardly reads).
+/// lambda_l of the mean-preserving update from the column sum c_l: 1 / (2 (1 + c_l)) (seed 003
+/// eq. 5.8-5.9; derived in docs/WAVELETS.md), or 0 where 1 + c_l <= 1e-3: a vertex the prediction
+/// hardly reads, where the formula would blow up.
 inline double update_weight(double column_sum) {
   const double mass = 1.0 + column_sum;
   return mass > 1e-3 ? 1.0 / (2.0 * mass) : 0.0;

@@ -203,15 +203,19 @@ TEST_CASE("a hierarchy without the topology below its finest level gives the sam
       // The synthesis of that level, which needs only its vertex count (the mean-preserving
       // update too: its edges are read off the level below), bit for bit the tables' synthesis.
       for (Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop})
-        for (const bool update : {false, true}) {
-          std::vector<double> synthesized_full = values, synthesized_lean = values, tables = values;
-          synthesize_level(full, {scheme, update}, levels - 1, synthesized_full, 4);
-          synthesize_level(lean, {scheme, update}, levels - 1, synthesized_lean, 4);
-          WaveletTransform(full, {scheme, update}).synthesize(tables, 4, levels, levels - 1);
-          INFO(to_string(scheme) << (update ? " + update" : ""));
-          REQUIRE(same_bits(synthesized_full, synthesized_lean));
-          REQUIRE(same_bits(synthesized_full, tables));
-        }
+        for (const bool update : {false, true})
+          for (const int channels : {1, 3, 4}) {
+            const std::vector<double> start(values.begin(), values.begin() + std::ptrdiff_t{full.vertex_count(levels)} * channels);
+            std::vector<double> synthesized_full = start, synthesized_lean = start, on_two = start, tables = start;
+            synthesize_level(full, {scheme, update}, levels - 1, synthesized_full, channels);
+            synthesize_level(lean, {scheme, update}, levels - 1, synthesized_lean, channels);
+            synthesize_level(lean, {scheme, update}, levels - 1, on_two, channels, nullptr, true);
+            WaveletTransform(full, {scheme, update}).synthesize(tables, channels, levels, levels - 1);
+            INFO(to_string(scheme) << (update ? " + update, " : ", ") << channels << " channels");
+            REQUIRE(same_bits(synthesized_full, synthesized_lean));
+            REQUIRE(same_bits(synthesized_full, on_two));
+            REQUIRE(same_bits(synthesized_full, tables));
+          }
       SemiRegularHierarchy released(topology_of(base), levels, false, false, false);
       REQUIRE(std::move(released).release_finest_triangles() == full.triangles(levels));
     }

@@ -435,14 +435,16 @@ void synthesize_level_both_ways(const SemiRegularHierarchy& h, WaveletOptions op
 }  // namespace
 
 TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each odd vertex over once", "[lifting]") {
-  // The block paths split between the threads (Loop; linear and butterfly without the update),
-  // and the others, which run on one whatever is asked; a boundary (the disk) and extraordinary
+  // The block paths split between the threads (Loop above the base; linear and butterfly, with
+  // and without the update, whose one before_odd call runs beside its column sums), and Loop's
+  // base level, which runs on one whatever is asked; a boundary (the disk) and extraordinary
   // vertices (its centre, the icosahedron's corners); before_odd counted per vertex from both.
   for (const TriangleMesh& base : {test::disk(7), test::icosahedron()}) {
     const SemiRegularMesh m = refine_linear(base, 4);
     const std::vector<double> noise = test::random_values(m.positions.size(), 13);
     for (const WaveletOptions options : {WaveletOptions{Scheme::linear, false}, WaveletOptions{Scheme::butterfly, false},
-                                         WaveletOptions{Scheme::butterfly, true}, WaveletOptions{Scheme::loop, false}}) {
+                                         WaveletOptions{Scheme::linear, true}, WaveletOptions{Scheme::butterfly, true},
+                                         WaveletOptions{Scheme::loop, false}}) {
       for (const int channels : {1, 3, 5}) {
         INFO("scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update << ", "
                        << channels << " channels");
@@ -459,8 +461,9 @@ TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each
   const SemiRegularMesh large = refine_linear(test::icosahedron(), 7);
   const std::vector<double> large_noise = test::random_values(large.positions.size(), 16);
   for (const WaveletOptions options : {WaveletOptions{Scheme::butterfly, false}, WaveletOptions{Scheme::loop, false},
-                                       WaveletOptions{Scheme::linear, false}}) {
-    INFO("large, scheme " << static_cast<int>(options.scheme));
+                                       WaveletOptions{Scheme::linear, false}, WaveletOptions{Scheme::butterfly, true},
+                                       WaveletOptions{Scheme::linear, true}}) {
+    INFO("large, scheme " << static_cast<int>(options.scheme) << ", update " << options.mean_preserving_update);
     std::vector<double> one(large_noise.begin(), large_noise.end());
     std::vector<double> two = one;
     synthesize_level_both_ways(large.hierarchy, options, 6, one, two, 3);
@@ -469,8 +472,8 @@ TEST_CASE("synthesize_level on two threads gives the bits of one, and hands each
 }
 
 TEST_CASE("the decoder gives the same mesh on 1 and 2 threads: decode, decode_into and the streaming Decoder", "[codec]") {
-  // Each scheme (butterfly also with the mean-preserving update, whose levels are synthesized
-  // from tables), local frames on and off, a boundary and a channel; the whole file, prefixes
+  // Each scheme (butterfly also with the mean-preserving update, whose column sums run beside
+  // the frames' turning of the details), local frames on and off, a boundary and a channel; the whole file, prefixes
   // that end in the base part and in the bit planes, and a coarser level. Two threads are asked
   // for (threads = 2), so the small mesh is split too; threads = 0 takes one thread below
   // kConcurrentDecodeVertices.
