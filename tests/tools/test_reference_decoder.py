@@ -7,7 +7,8 @@
 `--generate` adds streams made here with `meshlift subdivide` and `meshlift encode` from two small
 meshes with boundaries (a 5 x 5 grid whose interior vertices have valence 4 and 7, an open fan of
 four triangles), their finer vertices moved pseudo-randomly: butterfly with the
-mean-preserving update in local frames, Loop in x, y, z, linear in local frames.
+mean-preserving update in local frames, Loop in x, y, z, linear without the update (`--no-update`:
+the update is the default) in local frames.
 For each stream, and for prefixes of it (`--cuts=N`: N raw byte cuts spread over the file;
 `--every-byte`: all of them; `--truncate`: also the files `meshlift truncate` rewrites from those
 cuts; `--damage`: damaged copies, each chunk's checksum made right again where the damage is
@@ -206,7 +207,7 @@ def generate_streams(meshlift, workdir):
     for (name, positions, faces, scheme, options) in (
             ('grid', grid, grid_faces, 'butterfly', ['--update', '--frames', 'local']),
             ('grid', grid, grid_faces, 'loop', ['--frames', 'xyz']),
-            ('fan', fan, fan_faces, 'linear', ['--frames', 'local'])):
+            ('fan', fan, fan_faces, 'linear', ['--no-update', '--frames', 'local'])):
         base = os.path.join(workdir, name + '.off')
         fine = os.path.join(workdir, name + '_fine.off')
         write_off(base, positions, faces)
