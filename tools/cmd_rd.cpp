@@ -56,11 +56,14 @@ struct Row {
   double bytes = NAN, bpv = NAN, psnr_db = NAN, rms_rel = NAN, hausdorff_rel = NAN;
   double encode_s = NAN, decode_s = NAN, peak_rss_mb = NAN;
   std::string error;
+  /// meshlift rows: "1" where the stream has the mean-preserving update (header flag bit 0:
+  /// linear and butterfly unless --no-update), else "0"; empty for Draco's.
+  std::string update;
 };
 
 constexpr const char* kColumns =
     "mesh,input_vertices,codec,scheme,kind,param,bytes,bpv,psnr_db,rms_rel,hausdorff_rel,encode_s,decode_s,"
-    "peak_rss_mb,error";
+    "peak_rss_mb,error,update";
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -102,7 +105,7 @@ bool write_tables(const std::string& dir, const std::vector<Row>& rows, std::str
     csv << csv_field(r.mesh) << "," << r.input_vertices << "," << r.codec << "," << r.scheme << "," << r.kind << ","
         << r.param;
     for (const auto& n : numbers) csv << "," << n;
-    csv << "," << csv_field(r.error) << "\n";
+    csv << "," << csv_field(r.error) << "," << r.update << "\n";
     json << "  {\"mesh\": " << json_string(r.mesh) << ", \"input_vertices\": " << r.input_vertices
          << ", \"codec\": " << json_string(r.codec) << ", \"scheme\": " << json_string(r.scheme)
          << ", \"kind\": " << json_string(r.kind) << ", \"param\": " << (r.param.empty() ? std::string("null") : r.param)
@@ -110,7 +113,9 @@ bool write_tables(const std::string& dir, const std::vector<Row>& rows, std::str
          << ", \"psnr_db\": " << json_number(r.psnr_db) << ", \"rms_rel\": " << json_number(r.rms_rel)
          << ", \"hausdorff_rel\": " << json_number(r.hausdorff_rel) << ", \"encode_s\": " << json_number(r.encode_s)
          << ", \"decode_s\": " << json_number(r.decode_s) << ", \"peak_rss_mb\": " << json_number(r.peak_rss_mb)
-         << ", \"error\": " << json_string(r.error) << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+         << ", \"error\": " << json_string(r.error)
+         << ", \"update\": " << (r.update.empty() ? std::string("null") : r.update == "1" ? "true" : "false") << "}"
+         << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   json << "]\n";
   const std::string c = csv.str(), j = json.str();
@@ -323,6 +328,7 @@ class Sweep {
     encode_options.scheme = parse_scheme(scheme);
     encode_options.precision_bits = options_.bits;
     apply_frame_options(options_.frames, encode_options);
+    row.update = encode_options.mean_preserving_update && encode_options.scheme != Scheme::loop ? "1" : "0";
 
     // One encode at the highest rate; prefixes of it at each budget.
     std::vector<std::uint8_t> file;
