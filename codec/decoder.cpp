@@ -123,7 +123,17 @@ struct Storage {
 struct Prepared {
   StreamHeader header;
   std::optional<SemiRegularHierarchy> hierarchy;
+  /// With the mean-preserving update, its weights of levels 0, 1, ... (update_weights(), lifting.h)
+  /// where made before the synthesis needs them: by a two-thread decode beside the coefficients'
+  /// decoding, or kept by a streaming Decoder from its first mesh for the next.
+  std::vector<std::vector<double>> update_weights;
   int components() const { return header.components(); }
+  bool has_update() const { return header.scheme != Scheme::loop && header.mean_preserving_update; }
+  /// Makes update_weights of levels below `level` (those not made yet).
+  void make_update_weights(int level) {
+    while (static_cast<int>(update_weights.size()) < level)
+      update_weights.push_back(meshlift::update_weights(*hierarchy, header.scheme, static_cast<int>(update_weights.size())));
+  }
 };
 
 /// Decodes the base mesh and builds the hierarchy (FORMAT.md §3-4), every count checked against
@@ -289,9 +299,17 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   // The vertex normals of every level in one array, sized for the largest (the last) level.
   std::vector<frames::Vec3> normals;
   if (header.local_frames && result.level > 0) reserve_large(normals, h.vertex_count(result.level - 1));
+  // The update's weights: made already (a two-thread decode), or made here once and kept for the
+  // next mesh where the decode is a streaming Decoder's (`release` false); a one-time decode
+  // without them lets synthesize_level make each level's beside its details' turning.
+  if (p.has_update() && !release) p.make_update_weights(result.level);
   for (int j = 0; j < result.level; ++j) {
+    const std::span<const double> weights =
+        j < static_cast<int>(p.update_weights.size()) ? std::span<const double>(p.update_weights[static_cast<std::size_t>(j)])
+                                                      : std::span<const double>();
     if (!header.local_frames) {
-      synthesize_level(h, wavelets, j, values, K, {}, concurrent);
+      synthesize_level(h, wavelets, j, values, K, {}, concurrent, weights);
+      if (release && !weights.empty()) p.update_weights[static_cast<std::size_t>(j)] = std::vector<double>();
       continue;
     }
     // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache
@@ -303,7 +321,8 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
         [&](std::uint32_t first, std::uint32_t count) {
           level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
         },
-        concurrent);
+        concurrent, weights);
+    if (release && !weights.empty()) p.update_weights[static_cast<std::size_t>(j)] = std::vector<double>();  // freed
     normals = std::move(level_frames).release_storage();
   }
   normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
@@ -380,6 +399,7 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
             try {
               faces = output_faces(h, options, storage);
               assign_large(values, std::size_t{h.vertex_count(p.header.levels)} * static_cast<std::size_t>(p.components()));
+              if (p.has_update()) p.make_update_weights(output_level(options, p.header.levels));
             } catch (...) {
               allocation_failed = std::current_exception();
             }

@@ -306,20 +306,16 @@ namespace {
 
 /// The synthesis step of the mean-preserving update (stencils::mean_preserving_update) without
 /// its table: each even vertex v of the level (the vertices below `first_odd`) gets
-/// x[v] += -lambda_v x[first_odd + e] for its edges e in increasing order, lambda_v from the predict
-/// step's column sum at v (seed 003 eq. 5.9, docs/WAVELETS.md). Those are the operations of v's
-/// row in their order (the scale 1 term, then the sources in table order), so the bits are the
-/// table's. `edge(e, k)` is endpoint k of the level's edge e, for e in increasing order below
-/// `edges`; x holds `channels` values per vertex. `column_sum` is overwritten.
+/// x[v] += weight[v] x[first_odd + e] for its edges e in increasing order, weight[v] = -lambda_v
+/// (update_weights()). Those are the operations of v's row in their order (the scale 1 term,
+/// then the sources in table order), so the bits are the table's. `edge(e, k)` is endpoint k of
+/// the level's edge e, for e in increasing order below `edges`; x holds `channels` values per vertex.
 template <class Endpoint>
-void inverse_update(std::uint32_t first_odd, std::uint32_t edges, Endpoint&& edge, std::span<double> column_sum,
-                    double* x, int channels) {
+void inverse_update(std::uint32_t edges, Endpoint&& edge, std::span<const double> weight, double* x, int channels) {
   const auto n = static_cast<std::size_t>(channels);
-  // Each vertex's weight in its row, -lambda_v, in place of its column sum.
-  std::span<double> weight = column_sum;
-  for (std::uint32_t v = 0; v < first_odd; ++v) weight[v] = -stencils::update_weight(column_sum[v]);
+  const std::size_t first_odd = weight.size();
   for (std::uint32_t e = 0; e < edges; ++e) {
-    const double* detail = x + (std::size_t{first_odd} + e) * n;
+    const double* detail = x + (first_odd + e) * n;
     for (std::uint32_t k = 0; k < 2; ++k) {
       const std::uint32_t v = edge(e, k);
       const double w = weight[v];
@@ -334,14 +330,14 @@ void inverse_update(std::uint32_t first_odd, std::uint32_t edges, Endpoint&& edg
 /// below, with midpoint m, has the halves 2p = (a, m) and 2p + 1 = (m, b); face f's inner edge
 /// 2E + 3f + i joins the midpoints of its edges i + 2 and i + 1), whose topology the decoder keeps
 /// (a quarter of the size).
-void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std::span<double> column_sum,
-                          double* x, int channels) {
+void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> weight, double* x,
+                          int channels) {
   const std::uint32_t first_odd = hierarchy.vertex_count(level);
   const auto edges = static_cast<std::uint32_t>(hierarchy.vertex_count(level + 1) - first_odd);
   if (level == 0) {
     const std::uint32_t* ends = hierarchy.topology(0).edge_vertices.data();
-    inverse_update(first_odd, edges, [ends](std::uint32_t e, std::uint32_t k) { return ends[2 * std::size_t{e} + k]; },
-                   column_sum, x, channels);
+    inverse_update(edges, [ends](std::uint32_t e, std::uint32_t k) { return ends[2 * std::size_t{e} + k]; }, weight, x,
+                   channels);
     return;
   }
   const TriangleTopology& coarse = hierarchy.topology(level - 1);
@@ -349,13 +345,24 @@ void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std:
   const std::uint32_t* ends = coarse.edge_vertices.data();
   const std::uint32_t* face_edges = coarse.face_edges.data();
   inverse_update(
-      first_odd, edges,
+      edges,
       [=](std::uint32_t e, std::uint32_t k) -> std::uint32_t {
         if (e < 2 * E) return (e & 1) != k ? V + (e >> 1) : ends[2 * std::size_t{e >> 1} + (e & 1)];
         const std::uint32_t f = (e - 2 * E) / 3, i = (e - 2 * E) % 3;
         return V + face_edges[3 * std::size_t{f} + (k == 0 ? (i + 2) % 3 : (i + 1) % 3)];
       },
-      column_sum, x, channels);
+      weight, x, channels);
+}
+
+/// The predict rows of linear or butterfly for level `level`, a block of kBlockRows at a time:
+/// at the base from its topology, above it read off the level below.
+constexpr std::uint32_t kPredictBlockRows = 8192;
+void predict_blocks(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level,
+                    const std::function<void(const LiftingStep&)>& each, bool on_two_threads) {
+  if (level == 0)
+    stencils::predict_blocks(hierarchy.topology(level), scheme, kPredictBlockRows, each);
+  else
+    stencils::refined_predict_blocks(hierarchy.topology(level - 1), scheme, kPredictBlockRows, each, on_two_threads);
 }
 
 }  // namespace
@@ -365,8 +372,21 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
   synthesize_level(hierarchy, options, level, values, channels, {});
 }
 
+std::vector<double> update_weights(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level) {
+  if (scheme == Scheme::loop) throw std::invalid_argument("update_weights: Loop has its own update");
+  if (level < 0 || level >= hierarchy.levels())
+    throw std::invalid_argument("update_weights: no level " + std::to_string(level) + " below the finest");
+  // The predict rows' column sums over its blocks in order (one thread: the sums' order is the
+  // table's, stencils::add_column_sums), then each vertex's weight in place of its sum.
+  std::vector<double> weight(hierarchy.vertex_count(level), 0.0);
+  predict_blocks(hierarchy, scheme, level, [&](const LiftingStep& block) { stencils::add_column_sums(block, weight); }, false);
+  for (double& w : weight) w = -stencils::update_weight(w);
+  return weight;
+}
+
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
-                      int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) {
+                      int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent,
+                      std::span<const double> weights) {
   check_channels(channels);
   if (level < 0 || level >= hierarchy.levels())
     throw std::invalid_argument("synthesize_level: no level " + std::to_string(level) + " below the finest");
@@ -383,29 +403,28 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources. Above the base its
     // rows are read off the level below (a quarter of the size; the level's own topology is not
     // needed).
-    constexpr std::uint32_t kBlockRows = 8192;
-    auto predict_blocks = [&](const std::function<void(const LiftingStep&)>& each, bool on_two_threads) {
-      if (level == 0)
-        stencils::predict_blocks(hierarchy.topology(level), options.scheme, kBlockRows, each);
-      else
-        stencils::refined_predict_blocks(hierarchy.topology(level - 1), options.scheme, kBlockRows, each, on_two_threads);
-    };
     if (!options.mean_preserving_update) {
-      predict_blocks(apply, concurrent);
+      predict_blocks(hierarchy, options.scheme, level, apply, concurrent);
       return;
     }
-    // With the mean-preserving update, its step first, without the tables of either step: the
-    // predict rows' column sums over its blocks in order (one thread: the sums' order is the
-    // table's), every odd vertex made ready (the update reads them all), the update, then the
-    // predict rows as above. The first two side by side: the sums read only the topology and
-    // write only `column_sum`; before_odd writes only odd vertices; run_both joins both before
-    // the update reads them.
-    std::vector<double> column_sum(first_odd, 0.0);
+    // With the mean-preserving update, its step first, without the tables of either step: its
+    // weights (handed over, or update_weights(): a first pass over the predict blocks), every odd
+    // vertex made ready (the update reads them all), the update, then the predict rows as above.
+    // The first two side by side: the weights' pass reads only the topology and writes only
+    // `computed`; before_odd writes only odd vertices; run_both joins both before the update
+    // reads them.
+    if (!weights.empty() && weights.size() != first_odd)
+      throw std::invalid_argument("synthesize_level: the update's weights are not the level's vertices");
+    std::vector<double> computed;
     run_both(
-        concurrent, [&] { if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd); },
-        [&] { predict_blocks([&](const LiftingStep& block) { stencils::add_column_sums(block, column_sum); }, false); });
-    inverse_update_level(hierarchy, level, column_sum, values.data(), channels);
-    predict_blocks([&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); }, concurrent);
+        concurrent && weights.empty(),
+        [&] { if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd); },
+        [&] { if (weights.empty()) computed = update_weights(hierarchy, options.scheme, level); });
+    inverse_update_level(hierarchy, level, weights.empty() ? std::span<const double>(computed) : weights, values.data(),
+                         channels);
+    predict_blocks(
+        hierarchy, options.scheme, level, [&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); },
+        concurrent);
     return;
   }
   if (level == 0) {

@@ -215,6 +215,27 @@ TEST_CASE("a hierarchy without the topology below its finest level gives the sam
             REQUIRE(same_bits(synthesized_full, synthesized_lean));
             REQUIRE(same_bits(synthesized_full, on_two));
             REQUIRE(same_bits(synthesized_full, tables));
+            if (scheme == Scheme::loop) {
+              CHECK_THROWS_AS(update_weights(lean, scheme, levels - 1), std::invalid_argument);
+              continue;
+            }
+            // The update's weights made once and handed over (a streaming decoder's), on one
+            // thread and on two: the same bits; weights of another level are refused.
+            const std::vector<double> weights = update_weights(lean, scheme, levels - 1);
+            std::vector<double> handed = start, handed_on_two = start;
+            synthesize_level(lean, {scheme, update}, levels - 1, handed, channels, nullptr, false, weights);
+            synthesize_level(lean, {scheme, update}, levels - 1, handed_on_two, channels, nullptr, true, weights);
+            REQUIRE(same_bits(synthesized_full, handed));  // without the update they are ignored
+            REQUIRE(same_bits(synthesized_full, handed_on_two));
+            // They are what it uses: zero weights leave the even vertices as they are.
+            std::vector<double> unweighted = start;
+            synthesize_level(lean, {scheme, update}, levels - 1, unweighted, channels, nullptr, false,
+                             std::vector<double>(weights.size(), 0.0));
+            CHECK(same_bits(synthesized_full, unweighted) == !update);
+            if (update && levels >= 2)
+              CHECK_THROWS_AS(synthesize_level(lean, {scheme, update}, levels - 1, handed, channels, nullptr, false,
+                                               update_weights(lean, scheme, levels - 2)),
+                              std::invalid_argument);
           }
       SemiRegularHierarchy released(topology_of(base), levels, false, false, false);
       REQUIRE(std::move(released).release_finest_triangles() == full.triangles(levels));

@@ -136,8 +136,19 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
 /// mean-preserving update, its one call runs on a thread of its own beside the column sums' pass
 /// (which reads only the topology and writes only its own sums), and both end before the update
 /// reads a detail.
+/// `update_weights`, if not empty, are update_weights(hierarchy, options.scheme, level), made
+/// once by a caller that synthesizes the level again and again (a streaming decoder) or earlier
+/// on a spare thread; else the update's synthesis computes them. Ignored without the update.
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels, const std::function<void(std::uint32_t first, std::uint32_t count)>& before_odd,
-                      bool concurrent = false);
+                      bool concurrent = false, std::span<const double> update_weights = {});
+
+/// The mean-preserving update's weight in the row of each vertex of level `level` (below
+/// vertex_count(level)), for linear or butterfly: -lambda_v, lambda_v = 1 / (2 (1 + c_v)) with c_v
+/// the sum of v's weights in the level's predict rows (docs/WAVELETS.md; seed 003 eq. 5.9): the
+/// weights of stencils::mean_preserving_update's rows, bit for bit, without its table. Reads the
+/// topology of level - 1 only (of level 0 at the base). \throw std::invalid_argument for Loop or
+/// a level not below the finest.
+std::vector<double> update_weights(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level);
 
 }  // namespace meshlift
