@@ -123,9 +123,11 @@ struct Storage {
 struct Prepared {
   StreamHeader header;
   std::optional<SemiRegularHierarchy> hierarchy;
-  /// With the mean-preserving update, its weights of levels 0, 1, ... (update_weights(), lifting.h)
-  /// where made before the synthesis needs them: by a two-thread decode beside the coefficients'
-  /// decoding, or kept by a streaming Decoder from its first mesh for the next.
+  /// With the mean-preserving update, its weights of levels 0, 1, ... (update_weights(), lifting.h),
+  /// kept by a streaming Decoder from its first mesh for the next. (A one-time decode lets
+  /// synthesize_level make each level's beside the turning of its details, on two threads: made
+  /// beside the coefficients' decoding instead, they made a 3.3 M-vertex file at 0.58 bpv slower,
+  /// 0.334-0.360 -> 0.355-0.417 s, its coefficients being too few to hide them.)
   std::vector<std::vector<double>> update_weights;
   int components() const { return header.components(); }
   bool has_update() const { return header.scheme != Scheme::loop && header.mean_preserving_update; }
@@ -299,9 +301,9 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   // The vertex normals of every level in one array, sized for the largest (the last) level.
   std::vector<frames::Vec3> normals;
   if (header.local_frames && result.level > 0) reserve_large(normals, h.vertex_count(result.level - 1));
-  // The update's weights: made already (a two-thread decode), or made here once and kept for the
-  // next mesh where the decode is a streaming Decoder's (`release` false); a one-time decode
-  // without them lets synthesize_level make each level's beside its details' turning.
+  // The update's weights: made here once and kept for the next mesh where the decode is a
+  // streaming Decoder's (`release` false); a one-time decode lets synthesize_level make each
+  // level's beside its details' turning.
   if (p.has_update() && !release) p.make_update_weights(result.level);
   for (int j = 0; j < result.level; ++j) {
     const std::span<const double> weights =
@@ -399,7 +401,6 @@ DecodeResult decode_with(std::span<const std::uint8_t> bytes, const DecodeOption
             try {
               faces = output_faces(h, options, storage);
               assign_large(values, std::size_t{h.vertex_count(p.header.levels)} * static_cast<std::size_t>(p.components()));
-              if (p.has_update()) p.make_update_weights(output_level(options, p.header.levels));
             } catch (...) {
               allocation_failed = std::current_exception();
             }
