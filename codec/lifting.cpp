@@ -305,53 +305,40 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
 namespace {
 
 /// The synthesis step of the mean-preserving update (stencils::mean_preserving_update) without
-/// its table: each even vertex v of the level (the vertices below `first_odd`) gets
-/// x[v] += weight[v] x[first_odd + e] for its edges e in increasing order, weight[v] = -lambda_v
-/// (update_weights()). Those are the operations of v's row in their order (the scale 1 term,
-/// then the sources in table order), so the bits are the table's. `edge(e, k)` is endpoint k of
-/// the level's edge e, for e in increasing order below `edges`; x holds `channels` values per vertex.
-template <class Endpoint>
-void inverse_update(std::uint32_t edges, Endpoint&& edge, std::span<const double> weight, double* x, int channels) {
-  const auto n = static_cast<std::size_t>(channels);
-  const std::size_t first_odd = weight.size();
-  for (std::uint32_t e = 0; e < edges; ++e) {
-    const double* detail = x + (first_odd + e) * n;
-    for (std::uint32_t k = 0; k < 2; ++k) {
-      const std::uint32_t v = edge(e, k);
-      const double w = weight[v];
-      double* even = x + std::size_t{v} * n;
-      for (std::size_t c = 0; c < n; ++c) even[c] += w * detail[c];
-    }
-  }
-}
-
-/// inverse_update() over the level `level` of `hierarchy`: its edges from its own topology at the
-/// base, else read off the level below (TriangleTopology::refined(): edge p = (a, b) of the level
-/// below, with midpoint m, has the halves 2p = (a, m) and 2p + 1 = (m, b); face f's inner edge
-/// 2E + 3f + i joins the midpoints of its edges i + 2 and i + 1), whose topology the decoder keeps
-/// (a quarter of the size).
+/// its table, over level `level` of `hierarchy`: each even vertex v (below vertex_count(level))
+/// gets x[v] += weight[v] x[V + e] for its edges e in increasing order, weight[v] = -lambda_v
+/// (update_weights(); seed 003 eq. 5.9, docs/WAVELETS.md). Those are the operations of v's row in
+/// their order (the scale 1 term, then the sources in table order), so the bits are the table's.
+/// The edges come from the base's own topology, above it from the level below
+/// (TriangleTopology::refined_edge), whose topology the decoder keeps (a quarter of the size).
+/// x holds `channels` values per vertex.
 void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std::span<const double> weight, double* x,
                           int channels) {
+  const auto n = static_cast<std::size_t>(channels);
   const std::uint32_t first_odd = hierarchy.vertex_count(level);
   const auto edges = static_cast<std::uint32_t>(hierarchy.vertex_count(level + 1) - first_odd);
+  auto scatter = [&](auto&& ends_of) {
+    for (std::uint32_t e = 0; e < edges; ++e) {
+      std::uint32_t ends[2];
+      ends_of(e, ends[0], ends[1]);
+      const double* detail = x + (std::size_t{first_odd} + e) * n;
+      for (const std::uint32_t v : ends) {
+        const double w = weight[v];
+        double* even = x + std::size_t{v} * n;
+        for (std::size_t c = 0; c < n; ++c) even[c] += w * detail[c];
+      }
+    }
+  };
   if (level == 0) {
-    const std::uint32_t* ends = hierarchy.topology(0).edge_vertices.data();
-    inverse_update(edges, [ends](std::uint32_t e, std::uint32_t k) { return ends[2 * std::size_t{e} + k]; }, weight, x,
-                   channels);
-    return;
+    const std::uint32_t* base_ends = hierarchy.topology(0).edge_vertices.data();
+    scatter([base_ends](std::uint32_t e, std::uint32_t& a, std::uint32_t& b) {
+      a = base_ends[2 * std::size_t{e}];
+      b = base_ends[2 * std::size_t{e} + 1];
+    });
+  } else {
+    const TriangleTopology& coarse = hierarchy.topology(level - 1);
+    scatter([&coarse](std::uint32_t e, std::uint32_t& a, std::uint32_t& b) { coarse.refined_edge(e, a, b); });
   }
-  const TriangleTopology& coarse = hierarchy.topology(level - 1);
-  const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
-  const std::uint32_t* ends = coarse.edge_vertices.data();
-  const std::uint32_t* face_edges = coarse.face_edges.data();
-  inverse_update(
-      edges,
-      [=](std::uint32_t e, std::uint32_t k) -> std::uint32_t {
-        if (e < 2 * E) return (e & 1) != k ? V + (e >> 1) : ends[2 * std::size_t{e >> 1} + (e & 1)];
-        const std::uint32_t f = (e - 2 * E) / 3, i = (e - 2 * E) % 3;
-        return V + face_edges[3 * std::size_t{f} + (k == 0 ? (i + 2) % 3 : (i + 1) % 3)];
-      },
-      weight, x, channels);
 }
 
 /// The predict rows of linear or butterfly for level `level`, a block of kBlockRows at a time:

@@ -140,18 +140,7 @@ struct RefinedLevel {
       f(m[0], m[1], m[2]);
     }
   }
-  void edge(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const {
-    const std::uint32_t V = coarse.vertex_count, E = static_cast<std::uint32_t>(coarse.edge_count());
-    if (e < 2 * E) {
-      const std::uint32_t p = e / 2, m = V + p;
-      a = e % 2 == 0 ? coarse.edge_vertices[2 * p] : m;
-      b = e % 2 == 0 ? m : coarse.edge_vertices[2 * p + 1];
-    } else {
-      const std::uint32_t f = (e - 2 * E) / 3, i = (e - 2 * E) % 3;
-      a = V + coarse.face_edges[3 * f + (i + 2) % 3];
-      b = V + coarse.face_edges[3 * f + (i + 1) % 3];
-    }
-  }
+  void edge(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const { coarse.refined_edge(e, a, b); }
 };
 
 /// Area-weighted vertex normals of a level's mesh (the cross product's length is twice the face's

@@ -37,6 +37,22 @@ struct TriangleTopology {
   /// edges 2e (a side) and 2e+1 (b side); face f's three inner edges are 2E + 3f + i, inner edge i
   /// parallel to face edge i; face f becomes faces 4f..4f+3 (corner a, corner b, corner c, centre).
   TriangleTopology refined() const;
+  /// The ends (a, b) of edge e of refined(), read off this level without building it, as
+  /// refined() stores them: edge p = (x, y) with midpoint m = vertex_count + p gives the halves
+  /// 2p = (x, m) and 2p + 1 = (m, y); face f's inner edge 2E + 3f + i joins the midpoints of its
+  /// edges i + 2 and i + 1.
+  void refined_edge(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const {
+    const std::uint32_t V = vertex_count, E = static_cast<std::uint32_t>(edge_count());
+    if (e < 2 * E) {
+      const std::uint32_t p = e / 2, m = V + p;
+      a = e % 2 == 0 ? edge_vertices[2 * std::size_t{p}] : m;
+      b = e % 2 == 0 ? m : edge_vertices[2 * std::size_t{p} + 1];
+    } else {
+      const std::uint32_t f = (e - 2 * E) / 3, i = (e - 2 * E) % 3;
+      a = V + face_edges[3 * std::size_t{f} + (i + 2) % 3];
+      b = V + face_edges[3 * std::size_t{f} + (i + 1) % 3];
+    }
+  }
   /// The faces of refined() alone (the same numbering), without its edges.
   std::vector<std::uint32_t> refined_triangles() const;
   /// The same in `out`, whose storage is kept if it can hold them (for a caller that reuses it).
