@@ -311,21 +311,20 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
                                                       : std::span<const double>();
     if (!header.local_frames) {
       synthesize_level(h, wavelets, j, values, K, {}, concurrent, weights);
-      if (release && !weights.empty()) p.update_weights[static_cast<std::size_t>(j)] = std::vector<double>();
-      continue;
+    } else {
+      // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache
+      // (LevelFrames::rotate is const: the two threads rotate their own blocks).
+      frames::LevelFrames level_frames(h, j, values, K, std::move(normals));
+      const std::uint32_t first_odd = h.vertex_count(j);
+      synthesize_level(
+          h, wavelets, j, values, K,
+          [&](std::uint32_t first, std::uint32_t count) {
+            level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
+          },
+          concurrent, weights);
+      normals = std::move(level_frames).release_storage();
     }
-    // Each block of details turned to (x, y, z) just before the synthesis reads it, in cache
-    // (LevelFrames::rotate is const: the two threads rotate their own blocks).
-    frames::LevelFrames level_frames(h, j, values, K, std::move(normals));
-    const std::uint32_t first_odd = h.vertex_count(j);
-    synthesize_level(
-        h, wavelets, j, values, K,
-        [&](std::uint32_t first, std::uint32_t count) {
-          level_frames.rotate(first - first_odd, first - first_odd + count, values, frames::Direction::to_global);
-        },
-        concurrent, weights);
     if (release && !weights.empty()) p.update_weights[static_cast<std::size_t>(j)] = std::vector<double>();  // freed
-    normals = std::move(level_frames).release_storage();
   }
   normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
   // The centres back (synthesis reproduces constants, so adding them after it is adding them
