@@ -324,7 +324,6 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
           concurrent, weights);
       normals = std::move(level_frames).release_storage();
     }
-    if (release && !weights.empty()) p.update_weights[static_cast<std::size_t>(j)] = std::vector<double>();  // freed
   }
   normals = std::vector<frames::Vec3>();  // freed (not `= {}`, which would keep the storage)
   // The centres back (synthesis reproduces constants, so adding them after it is adding them
