@@ -256,9 +256,9 @@ int main(int argc, char** argv) {
   {
     // The wavelet `meshlift encode --scheme auto` takes on remeshes, butterfly (its normal lines
     // go through butterfly's prediction), with its mean-preserving update (the default): the same
-    // mesh and budget, decoded (the whole file is 1.87 bpv: below the budget). Its stencil rows are
-    // built per decode (8 sources each), above the base read off the level below as Loop's are;
-    // the update's column sums take a first pass over them.
+    // mesh and budget, decoded (the whole file is 1.87 bpv: below the budget). Its stencil rows (8
+    // sources each) are applied as they are read off the level below, with no table, as Loop's
+    // are; the update's column sums take a first pass over them.
     EncodeOptions butterfly;
     butterfly.scheme = Scheme::butterfly;
     DecodeResult r;

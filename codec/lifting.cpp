@@ -341,15 +341,23 @@ void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std:
   }
 }
 
-/// The predict rows of linear or butterfly for level `level`, a block of kBlockRows at a time:
-/// at the base from its topology, above it read off the level below.
+/// The predict step of linear or butterfly for level `level`, 8 Ki rows at a time (256 KiB of
+/// butterfly's sources): at the base its rows' blocks from its topology, each applied as it
+/// comes, before_odd given each block's targets first; above it each row applied as it is read
+/// off the level below (the level's own topology is not needed), before_odd given each chunk's.
+/// The same bits either way.
 constexpr std::uint32_t kPredictBlockRows = 8192;
-void predict_blocks(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level,
-                    const std::function<void(const LiftingStep&)>& each, bool on_two_threads) {
-  if (level == 0)
-    stencils::predict_blocks(hierarchy.topology(level), scheme, kPredictBlockRows, each);
-  else
-    stencils::refined_predict_blocks(hierarchy.topology(level - 1), scheme, kPredictBlockRows, each, on_two_threads);
+void predict_synthesis(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level, double* x, int channels,
+                       const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) {
+  if (level > 0) {
+    stencils::refined_predict_synthesis(hierarchy.topology(level - 1), scheme, kPredictBlockRows, x, channels, before_odd,
+                                        concurrent);
+    return;
+  }
+  stencils::predict_blocks(hierarchy.topology(0), scheme, kPredictBlockRows, [&](const LiftingStep& block) {
+    if (before_odd) before_odd(block.first_target, block.row_count);
+    apply_step<true>(block, x, channels);
+  });
 }
 
 }  // namespace
@@ -363,10 +371,15 @@ std::vector<double> update_weights(const SemiRegularHierarchy& hierarchy, Scheme
   if (scheme == Scheme::loop) throw std::invalid_argument("update_weights: Loop has its own update");
   if (level < 0 || level >= hierarchy.levels())
     throw std::invalid_argument("update_weights: no level " + std::to_string(level) + " below the finest");
-  // The predict rows' column sums over its blocks in order (one thread: the sums' order is the
-  // table's, stencils::add_column_sums), then each vertex's weight in place of its sum.
+  // The predict rows' column sums in table order (stencils::add_column_sums: at the base over its
+  // blocks, above it as the rows are read off the level below), then each vertex's weight in
+  // place of its sum.
   std::vector<double> weight(hierarchy.vertex_count(level), 0.0);
-  predict_blocks(hierarchy, scheme, level, [&](const LiftingStep& block) { stencils::add_column_sums(block, weight); }, false);
+  if (level == 0)
+    stencils::predict_blocks(hierarchy.topology(0), scheme, kPredictBlockRows,
+                             [&](const LiftingStep& block) { stencils::add_column_sums(block, weight); });
+  else
+    stencils::refined_column_sums(hierarchy.topology(level - 1), scheme, weight);
   for (double& w : weight) w = -stencils::update_weight(w);
   return weight;
 }
@@ -380,18 +393,10 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
   if (values.size() < static_cast<std::size_t>(hierarchy.vertex_count(level + 1)) * channels)
     throw std::invalid_argument("synthesize_level: values hold fewer vertices than the level makes");
   const std::uint32_t first_odd = hierarchy.vertex_count(level);
-  // In the block paths the predict step reads the odd vertices first, each block its own: hand
-  // each predict block's targets over just before it (update blocks target even vertices).
-  auto apply = [&](const LiftingStep& step) {
-    if (before_odd && step.first_target >= first_odd) before_odd(step.first_target, step.row_count);
-    apply_step<true>(step, values.data(), channels);
-  };
   if (options.scheme != Scheme::loop) {
-    // One predict step; blocks of 8 Ki rows: 256 KiB of butterfly's sources. Above the base its
-    // rows are read off the level below (a quarter of the size; the level's own topology is not
-    // needed).
+    // One predict step (predict_synthesis), each chunk's odd vertices made ready just before it.
     if (!options.mean_preserving_update) {
-      predict_blocks(hierarchy, options.scheme, level, apply, concurrent);
+      predict_synthesis(hierarchy, options.scheme, level, values.data(), channels, before_odd, concurrent);
       return;
     }
     // With the mean-preserving update, its step first, without the tables of either step: its
@@ -409,9 +414,7 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
         [&] { if (weights.empty()) computed = update_weights(hierarchy, options.scheme, level); });
     inverse_update_level(hierarchy, level, weights.empty() ? std::span<const double>(computed) : weights, values.data(),
                          channels);
-    predict_blocks(
-        hierarchy, options.scheme, level, [&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); },
-        concurrent);
+    predict_synthesis(hierarchy, options.scheme, level, values.data(), channels, {}, concurrent);
     return;
   }
   if (level == 0) {
@@ -435,7 +438,9 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
   };
   in_halves(concurrent, E, F, predict);
   constexpr std::uint32_t kBlockRows = 16384;
-  stencils::loop_update_blocks(coarse, first_odd, kBlockRows, apply, {}, concurrent);
+  stencils::loop_update_blocks(
+      coarse, first_odd, kBlockRows, [&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); }, {},
+      concurrent);
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

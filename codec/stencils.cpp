@@ -226,7 +226,7 @@ class ButterflyVertices {
     }
     if (any_boundary) edges_.emplace(t);
     // The ring weights of every interior valence present, made here so that nothing changes once
-    // built: two threads may write rows off one ButterflyVertices (refined_predict_blocks).
+    // built: two threads may read rows off one ButterflyVertices (refined_predict_synthesis).
     for (std::uint32_t v = 0; v < t.vertex_count; ++v)
       if (irregular(v)) {
         const std::uint32_t K = valence_[v];
@@ -346,7 +346,8 @@ struct ButterflySide {
 
 /// The regular 8-point row (a0+a1)/2 + (b0+b1)/8 - (c0+c1+c2+c3)/16 (seed 003 §5.3.2), sources
 /// a0, a1, then each side's b, tip_a0, tip_a1.
-std::uint32_t butterfly_regular_pattern(StepWriter& step) {
+template <class Step>
+std::uint32_t butterfly_regular_pattern(Step& step) {
   const double weights[] = {0.5, 0.5, 1.0 / 8, -1.0 / 16, -1.0 / 16, 1.0 / 8, -1.0 / 16, -1.0 / 16};
   return step.pattern(1.0, weights);
 }
@@ -354,7 +355,8 @@ std::uint32_t butterfly_regular_pattern(StepWriter& step) {
 /// A boundary edge: the 4-point rule (-1, 9, 9, -1)/16 along the boundary polyline (Dyn, Levin,
 /// Gregory 1987); beyond_a0 and beyond_a1 are the boundary neighbours of a0 and a1 other than each
 /// other.
-void butterfly_boundary_row(StepWriter& step, RowBuilder& row, std::uint32_t a0, std::uint32_t a1, std::uint32_t beyond_a0,
+template <class Step>
+void butterfly_boundary_row(Step& step, RowBuilder& row, std::uint32_t a0, std::uint32_t a1, std::uint32_t beyond_a0,
                             std::uint32_t beyond_a1) {
   row.add(a0, 9.0 / 16);
   row.add(a1, 9.0 / 16);
@@ -368,7 +370,8 @@ void butterfly_boundary_row(StepWriter& step, RowBuilder& row, std::uint32_t a0,
 /// across a boundary wing (x, b) of face (x, b, y) is replaced, like OpenMesh's
 /// ModifiedButterFlyT, by its reflection x + b - y, which keeps linear reproduction; repeated
 /// sources are merged.
-[[gnu::noinline]] void butterfly_reflected_row(StepWriter& step, RowBuilder& row, std::uint32_t a0, std::uint32_t a1,
+template <class Step>
+[[gnu::noinline]] void butterfly_reflected_row(Step& step, RowBuilder& row, std::uint32_t a0, std::uint32_t a1,
                                                const ButterflySide& first, const ButterflySide& second) {
   row.add(a0, 0.5);
   row.add(a1, 0.5);
@@ -392,7 +395,8 @@ void butterfly_boundary_row(StepWriter& step, RowBuilder& row, std::uint32_t a0,
 /// An interior edge between two vertices that are not extraordinary: the regular row, written
 /// straight (`regular`: butterfly_regular_pattern) where its eight sources exist and are distinct
 /// (all but the smallest meshes), else butterfly_reflected_row.
-[[gnu::always_inline]] inline void butterfly_regular_row(StepWriter& step, std::uint32_t regular, RowBuilder& row,
+template <class Step>
+[[gnu::always_inline]] inline void butterfly_regular_row(Step& step, std::uint32_t regular, RowBuilder& row,
                                                          std::uint32_t a0, std::uint32_t a1, const ButterflySide& first,
                                                          const ButterflySide& second) {
   const std::uint32_t sources[8] = {a0, a1, first.b, first.tip_a0, first.tip_a1, second.b, second.tip_a0, second.tip_a1};
@@ -676,7 +680,8 @@ class ButterflyRefinedRows {
       : t_(level.t), vertices_(level.vertices), V_(level.V), across_(level.across) {}
 
   /// The rows of the halves of coarse edges [begin, end): (a, m) then (m, b) for each.
-  void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+  template <class Step>
+  void halves(Step& step, std::uint32_t begin, std::uint32_t end) {
     const std::uint32_t regular = butterfly_regular_pattern(step);
     for (std::uint32_t e = begin; e < end; ++e) {
       const std::uint32_t a = t_.edge_vertices[2 * e], b = t_.edge_vertices[2 * e + 1], m = V_ + e;
@@ -712,7 +717,8 @@ class ButterflyRefinedRows {
   /// The rows of the inner edges of coarse faces [begin, end): inner edge i, m_{i+2} -> m_{i+1},
   /// has first the corner face at c_{i+2} (b = c_{i+2}, wings the halves at c_{i+2} of edges i+2
   /// and i+1), second the centre face (b = m_i, the corner faces at c_i and c_{i+1} across).
-  void inner(StepWriter& step, std::uint32_t begin, std::uint32_t end) {
+  template <class Step>
+  void inner(Step& step, std::uint32_t begin, std::uint32_t end) {
     const std::uint32_t regular = butterfly_regular_pattern(step);
     for (std::uint32_t f = begin; f < end; ++f) {
       const std::uint32_t* c = &t_.triangles[3 * f];
@@ -743,7 +749,8 @@ class ButterflyRefinedRows {
   bool irregular(std::uint32_t v) const { return v < V_ && vertices_.irregular(v); }
 
   /// The row of interior fine edge (a0, a1), a half of coarse edge `e` or an inner edge (e kNone).
-  [[gnu::always_inline]] void row(StepWriter& step, std::uint32_t regular, std::uint32_t e, std::uint32_t a0,
+  template <class Step>
+  [[gnu::always_inline]] void row(Step& step, std::uint32_t regular, std::uint32_t e, std::uint32_t a0,
                                   std::uint32_t a1, const ButterflySide& first, const ButterflySide& second) {
     if (irregular(a0) || irregular(a1)) [[unlikely]]
       extraordinary_row(step, e, irregular(a0) ? a0 : a1);
@@ -754,7 +761,8 @@ class ButterflyRefinedRows {
   /// A half of coarse edge e at its extraordinary endpoint x (the other endpoint, m = V + e, never
   /// is): x's fine ring is the midpoints of its coarse edges in face order from e through e's
   /// first face, as ordered_ring walks the fine corner faces at x.
-  [[gnu::noinline]] void extraordinary_row(StepWriter& step, std::uint32_t e, std::uint32_t x) {
+  template <class Step>
+  [[gnu::noinline]] void extraordinary_row(Step& step, std::uint32_t e, std::uint32_t x) {
     const unsigned K = vertices_.valence(x);
     ring_.clear();
     for (std::uint32_t edge = e, f = t_.edge_faces[2 * e]; ring_.size() < K;) {
@@ -780,7 +788,8 @@ class ButterflyRefinedRows {
 struct LinearRefinedRows {
   const TriangleTopology& coarse;
 
-  void halves(StepWriter& step, std::uint32_t begin, std::uint32_t end) const {
+  template <class Step>
+  void halves(Step& step, std::uint32_t begin, std::uint32_t end) const {
     const std::uint32_t pattern = midpoint_pattern(step);
     for (std::uint32_t e = begin; e < end; ++e) {
       const std::uint32_t m = coarse.vertex_count + e;
@@ -788,14 +797,16 @@ struct LinearRefinedRows {
       step.row(pattern, {m, coarse.edge_vertices[2 * e + 1]});
     }
   }
-  void inner(StepWriter& step, std::uint32_t begin, std::uint32_t end) const {
+  template <class Step>
+  void inner(Step& step, std::uint32_t begin, std::uint32_t end) const {
     const std::uint32_t pattern = midpoint_pattern(step);
     const std::uint32_t V = coarse.vertex_count;
     for (std::uint32_t f = begin; f < end; ++f)
       for (std::uint32_t i = 0; i < 3; ++i)
         step.row(pattern, {V + coarse.face_edges[3 * f + (i + 2) % 3], V + coarse.face_edges[3 * f + (i + 1) % 3]});
   }
-  static std::uint32_t midpoint_pattern(StepWriter& step) {
+  template <class Step>
+  static std::uint32_t midpoint_pattern(Step& step) {
     const double midpoint[] = {0.5, 0.5};
     return step.pattern(1.0, midpoint);
   }
@@ -813,6 +824,83 @@ void with_refined_rows(const TriangleTopology& coarse, Scheme scheme, const char
     use([&] { return ButterflyRefinedRows(level); });
   }
 }
+
+/// The patterns a rule registers with the row sinks below (butterfly's regular row, the
+/// midpoint), as StepWriter::pattern() would: found by value, else added.
+class RowPatterns {
+ public:
+  std::uint32_t pattern(double scale, std::span<const double> weights) {
+    for (std::uint32_t p = 0; p < patterns_.size(); ++p)
+      if (patterns_[p].scale == scale && std::equal(weights.begin(), weights.end(), patterns_[p].weights.begin(),
+                                                    patterns_[p].weights.end()))
+        return p;
+    patterns_.push_back({scale, {weights.begin(), weights.end()}});
+    return static_cast<std::uint32_t>(patterns_.size() - 1);
+  }
+
+ protected:
+  struct Pattern {
+    double scale;
+    std::vector<double> weights;
+  };
+  std::vector<Pattern> patterns_;
+};
+
+/// Takes rows as StepWriter takes them (the rules above write to either) and applies each at once
+/// to x (`channels` values per vertex; C of them where C > 0): its synthesis exactly as
+/// lifting.cpp's synthesize_run computes a table row, the target times the row's scale first,
+/// then each source times its weight in row order. The rows' targets are consecutive from the
+/// one seek() names.
+template <int C>
+class SynthesisRows : public RowPatterns {
+ public:
+  SynthesisRows(double* x, int channels) : x_(x), n_(C > 0 ? C : channels) {}
+  void seek(std::uint32_t target) { target_ = x_ + std::size_t{target} * static_cast<std::size_t>(n_); }
+  template <std::size_t N>
+  void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
+    apply(patterns_[pattern].scale, patterns_[pattern].weights.data(), sources, N);
+  }
+  void row(const RowBuilder& builder, double scale = 1.0) {
+    apply(scale, builder.weights().data(), builder.sources().data(), builder.sources().size());
+  }
+
+ private:
+  [[gnu::always_inline]] void apply(double scale, const double* w, const std::uint32_t* sources, std::size_t arity) {
+    const int n = C > 0 ? C : n_;
+    double acc[C > 0 ? C : 64];
+    for (int c = 0; c < n; ++c) acc[c] = scale * target_[c];
+    for (std::size_t k = 0; k < arity; ++k) {
+      const double* source = x_ + std::size_t{sources[k]} * static_cast<std::size_t>(n);
+      for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
+    }
+    for (int c = 0; c < n; ++c) target_[c] = acc[c];
+    target_ += n;
+  }
+
+  double* x_;
+  double* target_ = nullptr;
+  int n_;
+};
+
+/// Takes rows as StepWriter takes them and adds each source's weight to its column sum, row
+/// after row and in row order, as add_column_sums() reads a table's.
+class ColumnSumRows : public RowPatterns {
+ public:
+  explicit ColumnSumRows(std::span<double> column_sum) : sum_(column_sum) {}
+  template <std::size_t N>
+  void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
+    add(patterns_[pattern].weights.data(), sources, N);
+  }
+  void row(const RowBuilder& builder, double = 1.0) {
+    add(builder.weights().data(), builder.sources().data(), builder.sources().size());
+  }
+
+ private:
+  void add(const double* w, const std::uint32_t* sources, std::size_t arity) {
+    for (std::size_t k = 0; k < arity; ++k) sum_[sources[k]] += w[k];
+  }
+  std::span<double> sum_;
+};
 
 }  // namespace
 
@@ -842,21 +930,49 @@ LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
   return step.finish();
 }
 
-void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
-                            const std::function<void(const LiftingStep&)>& apply, bool concurrent) {
+void refined_predict_synthesis(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows, double* x,
+                               int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
+                               bool concurrent) {
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  const std::uint32_t first_odd = coarse.vertex_count + E, arity = static_cast<std::uint32_t>(predict_arity(scheme));
-  with_refined_rows(coarse, scheme, "refined_predict_blocks", [&](auto make_rows) {
-    // The halves of coarse edges [e0, e1), then the inner edges of coarse faces [f0, f1).
+  const std::uint32_t first_odd = coarse.vertex_count + E;
+  with_refined_rows(coarse, scheme, "refined_predict_synthesis", [&](auto make_rows) {
+    // The halves of coarse edges [e0, e1), then the inner edges of coarse faces [f0, f1), a
+    // chunk of about block_rows rows at a time, each chunk's targets handed to before_odd first.
     auto part = [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
       auto rows = make_rows();
-      std::vector<std::uint32_t> buffer;
-      in_blocks(first_odd, e0, e1, 2, arity, block_rows, buffer, apply,
-                [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.halves(step, begin, end); });
-      in_blocks(first_odd + 2 * E, f0, f1, 3, arity, block_rows, buffer, apply,
-                [&](StepWriter& step, std::uint32_t begin, std::uint32_t end) { rows.inner(step, begin, end); });
+      auto run = [&]<int C>() {
+        SynthesisRows<C> sink(x, channels);
+        auto chunks = [&](std::uint32_t first, std::uint32_t last, std::uint32_t rows_per_item, std::uint32_t first_target,
+                          auto&& write) {
+          const std::uint32_t items = std::max<std::uint32_t>(1, block_rows / rows_per_item);
+          for (std::uint32_t begin = first; begin < last; begin += items) {
+            const std::uint32_t end = begin + std::min(items, last - begin);
+            if (before_odd) before_odd(first_target + rows_per_item * begin, rows_per_item * (end - begin));
+            sink.seek(first_target + rows_per_item * begin);
+            write(begin, end);
+          }
+        };
+        chunks(e0, e1, 2, first_odd, [&](std::uint32_t begin, std::uint32_t end) { rows.halves(sink, begin, end); });
+        chunks(f0, f1, 3, first_odd + 2 * E, [&](std::uint32_t begin, std::uint32_t end) { rows.inner(sink, begin, end); });
+      };
+      if (channels == 3)
+        run.template operator()<3>();
+      else if (channels == 1)
+        run.template operator()<1>();
+      else
+        run.template operator()<0>();
     };
     in_halves(concurrent, E, F, part);
+  });
+}
+
+void refined_column_sums(const TriangleTopology& coarse, Scheme scheme, std::span<double> column_sum) {
+  const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+  with_refined_rows(coarse, scheme, "refined_column_sums", [&](auto make_rows) {
+    auto rows = make_rows();
+    ColumnSumRows sink(column_sum);
+    rows.halves(sink, 0, E);
+    rows.inner(sink, 0, F);
   });
 }
 

@@ -26,14 +26,23 @@ void predict_blocks(const TriangleTopology& topology, Scheme scheme, std::uint32
 
 /// The rows of predict(coarse.refined(), scheme) for linear or butterfly, the same rows in the
 /// same order, read off the coarse level by the refinement rule (the fine level's topology is not
-/// needed), as consecutive blocks of about `block_rows` rows (the halves of block_rows / 2 coarse
-/// edges, or the inner edges of block_rows / 3 coarse faces), handed to `apply` one at a time in
-/// one reused buffer. With `concurrent`, the second half of the edges' and of the faces' rows on
-/// a thread of its own (each half in the same order): `apply` is then called from two threads at
-/// once, with disjoint blocks. \throw std::invalid_argument for Scheme::loop (loop_refined_blocks).
-void refined_predict_blocks(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows,
-                            const std::function<void(const LiftingStep&)>& apply, bool concurrent = false);
-/// The same rows as one step: predict(coarse.refined(), scheme), read off the coarse level.
+/// needed), their synthesis applied to x, `channels` values per vertex, as each row is read, with
+/// no table: each row computed as the synthesis computes its table row (lifting.cpp's
+/// synthesize_run: the target times the scale, then the sources in row order), so the same bits.
+/// The halves of the coarse edges, then the inner edges of the coarse faces, a chunk of about
+/// `block_rows` rows at a time; before_odd (if set) gets each chunk's targets (first, count)
+/// before its rows. With `concurrent`, the second half of the edges and of the faces on a thread
+/// of its own (before_odd then called from two threads at once, with disjoint targets).
+/// \throw std::invalid_argument for Scheme::loop (Loop's rows: loop_halves, loop_inner).
+void refined_predict_synthesis(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows, double* x,
+                               int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
+                               bool concurrent);
+/// Adds the weights of every row of refined_predict(coarse, scheme) to `column_sum` (indexed by
+/// source vertex), as add_column_sums() adds a table's, with no table: the same bits.
+/// \pre column_sum covers the rows' sources, the coarse level's vertices and edge midpoints.
+/// \throw std::invalid_argument for Scheme::loop.
+void refined_column_sums(const TriangleTopology& coarse, Scheme scheme, std::span<double> column_sum);
+/// The same rows as one step (a table): predict(coarse.refined(), scheme), read off the coarse level.
 /// \throw std::invalid_argument for Scheme::loop (loop_predict_refined).
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
 
@@ -122,9 +131,8 @@ void loop_inner(const TriangleTopology& coarse, std::uint32_t begin, std::uint32
 LiftingStep mean_preserving_update(const TriangleTopology& topology, const LiftingStep& predict);
 
 /// Adds each source's weights in the rows of `predict` to `column_sum` (indexed by source
-/// vertex), row after row in table order: over the blocks of predict_blocks() or
-/// refined_predict_blocks() in the order they come, the same sums, bit for bit, as over the whole
-/// step. \pre column_sum covers every source vertex.
+/// vertex), row after row in table order: over the blocks of predict_blocks() in the order they
+/// come, the same sums, bit for bit, as over the whole step. \pre column_sum covers every source vertex.
 void add_column_sums(const LiftingStep& predict, std::span<double> column_sum);
 
 /// lambda_l of the mean-preserving update from the column sum c_l: 1 / (2 (1 + c_l)) (seed 003

@@ -7,6 +7,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <mutex>
+#include <algorithm>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -123,7 +125,7 @@ std::vector<double> butterfly_reference_row(const TriangleTopology& t, std::uint
 
 }  // namespace
 
-TEST_CASE("butterfly rows written straight and a block at a time are the rule's rows - irregular, boundary, pillow",
+TEST_CASE("butterfly rows written straight, a block at a time and applied as read are the rule's rows - irregular, boundary, pillow",
           "[lifting]") {
   const TriangleMesh pillow{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1}};
   const TriangleMesh tetrahedron{{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}};
@@ -152,23 +154,64 @@ TEST_CASE("butterfly rows written straight and a block at a time are the rule's 
           });
           REQUIRE(blocks == whole);
           if (j == 0) continue;
-          // The same rows read off the level below, without this level's topology.
-          std::vector<std::vector<double>> refined;
-          stencils::refined_predict_blocks(h.topology(j - 1), scheme, block_rows, [&](const LiftingStep& s) {
-            CHECK(s.row_count <= std::max(block_rows, 3u));
-            for (std::size_t k = s.indices.size() - LiftingStep::kPadding; k < s.indices.size(); ++k) REQUIRE(s.indices[k] == 0);
-            for (const auto& row : expand_rows(s)) refined.push_back(row);
-          });
-          INFO(to_string(scheme) << ", block rows " << block_rows);
-          REQUIRE(refined == whole);
+          // The same rows read off the level below, without this level's topology, applied as they
+          // are read: the same bits as the rows' synthesis written here from them (the target
+          // times the scale, then the sources in row order), in 1, 3 and 4 channels, on one thread
+          // and on two. The odd values start as NaN and before_odd writes each chunk's details,
+          // so a row computed before its chunk was handed over would show.
+          const std::uint32_t first_odd = h.vertex_count(j), fine = h.vertex_count(j + 1);
+          for (const int channels : {1, 3, 4})
+            for (const bool concurrent : {false, true}) {
+              const auto n = static_cast<std::size_t>(channels);
+              std::vector<double> values(fine * n), details(fine * n);
+              for (std::size_t i = 0; i < values.size(); ++i) {
+                values[i] = std::sin(0.37 * static_cast<double>(i) + 1.0);
+                details[i] = 1e-3 * std::cos(1.3 * static_cast<double>(i));
+              }
+              std::vector<double> expected = values;
+              std::copy(details.begin() + first_odd * n, details.end(), expected.begin() + first_odd * n);
+              for (const auto& row : whole) {
+                const auto target = static_cast<std::size_t>(row[0]);
+                for (std::size_t c = 0; c < n; ++c) {
+                  double acc = row[1] * expected[target * n + c];
+                  for (std::size_t k = 2; k < row.size(); k += 2) acc += row[k + 1] * expected[static_cast<std::size_t>(row[k]) * n + c];
+                  expected[target * n + c] = acc;
+                }
+              }
+              std::fill(values.begin() + first_odd * n, values.end(), std::nan(""));
+              std::mutex handed_lock;
+              std::vector<int> handed(fine - first_odd, 0);
+              stencils::refined_predict_synthesis(
+                  h.topology(j - 1), scheme, block_rows, values.data(), channels,
+                  [&](std::uint32_t first, std::uint32_t count) {
+                    const std::lock_guard<std::mutex> lock(handed_lock);
+                    for (std::uint32_t v = first; v < first + count && v >= first_odd && v < fine; ++v) {
+                      ++handed[v - first_odd];
+                      std::copy_n(details.begin() + v * n, n, values.begin() + v * n);
+                    }
+                  },
+                  concurrent);
+              INFO(to_string(scheme) << ", block rows " << block_rows << ", " << channels << " channels"
+                                     << (concurrent ? ", two threads" : ""));
+              REQUIRE(same_bits(values, expected));
+              REQUIRE(std::count(handed.begin(), handed.end(), 1) == static_cast<std::ptrdiff_t>(handed.size()));
+            }
           REQUIRE(expand_rows(stencils::refined_predict(h.topology(j - 1), scheme)) == whole);
         }
+        if (j == 0) continue;
+        // The rows' column sums read off the level below: the table's, bit for bit.
+        std::vector<double> sums(h.vertex_count(j), 0.0), expected_sums(h.vertex_count(j), 0.0);
+        stencils::add_column_sums(stencils::predict(t, scheme), expected_sums);
+        stencils::refined_column_sums(h.topology(j - 1), scheme, sums);
+        REQUIRE(same_bits(sums, expected_sums));
       }
     }
     CHECK_THROWS_AS(stencils::predict_blocks(h.topology(0), Scheme::loop, 64, [](const LiftingStep&) {}),
                     std::invalid_argument);
-    CHECK_THROWS_AS(stencils::refined_predict_blocks(h.topology(0), Scheme::loop, 64, [](const LiftingStep&) {}),
+    std::vector<double> x(3 * std::size_t{h.vertex_count(1)}), sums(h.vertex_count(1));
+    CHECK_THROWS_AS(stencils::refined_predict_synthesis(h.topology(0), Scheme::loop, 64, x.data(), 3, {}, false),
                     std::invalid_argument);
+    CHECK_THROWS_AS(stencils::refined_column_sums(h.topology(0), Scheme::loop, sums), std::invalid_argument);
     CHECK_THROWS_AS(stencils::refined_predict(h.topology(0), Scheme::loop), std::invalid_argument);
   }
 }

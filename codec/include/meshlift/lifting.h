@@ -113,21 +113,21 @@ class WaveletTransform {
 /// for a caller that runs one level at a time and needs no tables afterwards (a decoder). For
 /// Loop above the base the predict step is applied as its rows are read off the coarse faces and
 /// the update step's rows are built and applied a block at a time in one small buffer; linear
-/// and butterfly build and apply their predict rows a block at a time too, above the base read
-/// off the level below as Loop's are. With the mean-preserving update, its step comes first,
-/// without a table either: the predict rows' column sums over a first pass of those blocks, then
-/// each even vertex's row as a scatter over the level's edges in increasing order (above the
-/// base read off the level below), the same operations in the same order as its table row. So
-/// those tables (18 to 36 bytes per vertex of level + 1) are never in memory, and each block is
-/// applied while it is in cache; Loop's level 0 builds the level's tables. Only level 0 reads
+/// and butterfly apply their predict rows as they read them off the level below too (at the base
+/// they build and apply them a block at a time). With the mean-preserving update, its step comes
+/// first, without a table either: the predict rows' column sums over a first pass of those rows,
+/// then each even vertex's row as a scatter over the level's edges in increasing order (above
+/// the base read off the level below), the same operations in the same order as its table row.
+/// So those tables (18 to 36 bytes per vertex of level + 1) are never in memory, and each block
+/// is applied while it is in cache; Loop's level 0 builds the level's tables. Only level 0 reads
 /// topology(level): above it the hierarchy need hold levels up to level - 1 only.
 /// \pre 0 <= level < hierarchy.levels(); values hold vertex_count(level + 1) * channels doubles.
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
                       int channels = 3);
 /// The same, calling before_odd(first, count) for the odd vertices [first, first + count) of level
 /// `level` + 1, every one exactly once and before any step reads it, while the level's even
-/// vertices still hold the level-`level` mesh: in each predict block's turn where the level is
-/// made a block at a time, else (Loop's level 0, and the mean-preserving update, which reads all
+/// vertices still hold the level-`level` mesh: in each predict block's or chunk's turn where the
+/// level is made a block or chunk at a time, else (Loop's level 0, and the mean-preserving update, which reads all
 /// the details first) once for all of them first. For a caller that prepares the details there
 /// while they are in cache (the decoder turns them out of their local frames).
 /// With `concurrent`, the block paths (Loop above the base, linear and butterfly) run on two
