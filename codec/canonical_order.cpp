@@ -169,7 +169,8 @@ SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {
     return ordered;
   };
   SemiRegularMesh out{std::move(canonical.hierarchy), reorder(mesh.positions, 3), {}};
-  for (const VertexChannel& channel : mesh.channels) out.channels.push_back({channel.components, reorder(channel.values, channel.components)});
+  for (const VertexChannel& channel : mesh.channels)
+    out.channels.push_back({channel.components, reorder(channel.values, channel.components), channel.colour});
   return out;
 }
 

@@ -332,7 +332,7 @@ DecodeResult synthesize(Prepared& p, bool release, std::vector<double> values, c
   std::size_t offset = zerotree::kGeometryComponents;
   for (const ChannelQuantization& c : header.channels) {
     const std::size_t m = static_cast<std::size_t>(c.components);
-    VertexChannel channel{c.components, {}};
+    VertexChannel channel{c.components, {}, result.channels.empty() && header.colour};
     if (storage != nullptr && result.channels.size() < storage->channels.size())
       channel.values = std::move(storage->channels[result.channels.size()].values);
     assign_large(channel.values, std::size_t{n} * m);
@@ -675,6 +675,7 @@ StreamInfo inspect(std::span<const std::uint8_t> bytes) {
   info.local_frames = h.local_frames;
   info.tangent_shift = h.tangent_shift;
   info.channels = h.channels;
+  info.colour = h.colour;
   if (r.status == Status::ok) {
     std::vector<std::uint32_t> triangles;
     if (base_mesh::decode_faces(stream.base->payload, h.base_vertices, h.base_faces, triangles)) {

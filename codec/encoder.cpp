@@ -215,6 +215,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       throw MeshError("encode: channel_precision_bits must be between 1 and 40");
     int total = 0;
     for (const VertexChannel& c : input.channels) {
+      if (c.colour && (&c != &input.channels.front() || c.components != 3))
+        throw MeshError("encode: the colour must be the first extra channel, of 3 components");
       total += c.components;
       if (c.components < 1 || total > zerotree::kMaxChannelComponents)
         throw MeshError("encode: extra channels may have " + std::to_string(zerotree::kMaxChannelComponents) +
@@ -249,6 +251,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   header.base_faces = static_cast<std::uint32_t>(h.topology(0).face_count());
   header.local_frames = options.local_frames;
   header.tangent_shift = options.local_frames ? options.tangent_shift : 0;
+  header.colour = !input.channels.empty() && input.channels.front().colour;
 
   // The values to analyze, K per vertex (geometry, then the channels), in canonical order: first
   // as given, then centred below. Made resident in one system call (large_array.h), as the arrays below.

@@ -15,7 +15,8 @@ namespace {
 constexpr std::uint8_t kFlagUpdate = 1;
 constexpr std::uint8_t kFlagLocalFrames = 2;
 constexpr std::uint8_t kFlagChannels = 4;
-constexpr std::uint8_t kKnownFlags = kFlagUpdate | kFlagLocalFrames | kFlagChannels;
+constexpr std::uint8_t kFlagColour = 8;
+constexpr std::uint8_t kKnownFlags = kFlagUpdate | kFlagLocalFrames | kFlagChannels | kFlagColour;
 constexpr int kMaxTangentShift = 16;
 constexpr int kMaxChannels = 4;
 }  // namespace
@@ -57,7 +58,7 @@ std::vector<std::uint8_t> StreamHeader::write() const {
   ByteWriter w;
   w.u8(static_cast<std::uint8_t>(scheme));
   w.u8(static_cast<std::uint8_t>((mean_preserving_update ? kFlagUpdate : 0) | (local_frames ? kFlagLocalFrames : 0) |
-                                 (channels.empty() ? 0 : kFlagChannels)));
+                                 (channels.empty() ? 0 : kFlagChannels) | (colour ? kFlagColour : 0)));
   w.u8(static_cast<std::uint8_t>(levels));
   w.u8(static_cast<std::uint8_t>(top_plane + 1));
   w.u8(static_cast<std::uint8_t>(base_plane));
@@ -187,6 +188,11 @@ Status StreamHeader::read(std::span<const std::uint8_t> payload, const DecodeLim
   }
   if (!r.ok()) {
     message = "header chunk too short for its quantization parameters";
+    return Status::corrupt;
+  }
+  colour = flags & kFlagColour;
+  if (colour && (channels.empty() || channels[0].components != 3)) {
+    message = "header marks the first channel as the colour, but it is not a channel of 3 components";
     return Status::corrupt;
   }
   bool finite = std::isfinite(step) && step > 0;

@@ -36,6 +36,8 @@ struct StreamHeader {
   int tangent_shift = 0;
   /// Extra per-vertex channels (flag bit 2).
   std::vector<ChannelQuantization> channels;
+  /// The first channel is the vertices' colour, red, green, blue (flag bit 3).
+  bool colour = false;
 
   /// Components coded per vertex: 3 + the channels' components.
   int components() const;

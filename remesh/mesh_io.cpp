@@ -23,6 +23,7 @@
 #include <iostream>
 #include <memory>
 #include <random>
+#include <span>
 #include <sstream>
 #include <system_error>
 
@@ -212,16 +213,30 @@ void write_point(Output& out, const std::array<float, 3>& p) {
   out.number(p[2]);
 }
 
+/// Colour component k of vertex v as a byte: round(255 c), c clamped to [0, 1].
+std::uint8_t colour_byte(std::span<const double> colors, std::size_t v, int k) {
+  return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(colors[3 * v + static_cast<std::size_t>(k)], 0.0, 1.0)));
+}
+
+/// " r g b" of vertex v, 0-255.
+void write_colour(Output& out, std::span<const double> colors, std::size_t v) {
+  for (int k = 0; k < 3; ++k) {
+    out.character(' ');
+    out.integer(colour_byte(colors, v, k));
+  }
+}
+
 template <class Faces>
-void write_off(Output& out, const std::vector<double>& positions, const Faces& faces) {
+void write_off(Output& out, const std::vector<double>& positions, const Faces& faces, std::span<const double> colors) {
   const std::size_t V = positions.size() / 3;
-  out.text("OFF\n");
+  out.text(colors.empty() ? "OFF\n" : "COFF\n");
   out.integer(V);
   out.character(' ');
   out.integer(faces.count());
   out.text(" 0\n");
   for (std::uint32_t v = 0; v < V; ++v) {
     write_point(out, stored_point(positions, v));
+    if (!colors.empty()) write_colour(out, colors, v);
     out.character('\n');
   }
   for (std::size_t f = 0; f < faces.count(); ++f) {
@@ -235,12 +250,18 @@ void write_off(Output& out, const std::vector<double>& positions, const Faces& f
 }
 
 template <class Faces>
-void write_obj(Output& out, const std::vector<double>& positions, const Faces& faces) {
+void write_obj(Output& out, const std::vector<double>& positions, const Faces& faces, std::span<const double> colors) {
   const std::size_t V = positions.size() / 3;
   out.text("# " + std::to_string(V) + " vertices, " + std::to_string(faces.count()) + " faces\n");
   for (std::uint32_t v = 0; v < V; ++v) {
     out.text("v ");
     write_point(out, stored_point(positions, v));
+    // A colour as MeshLab writes it, `v x y z r g b` in [0, 1]: the byte the other formats store.
+    if (!colors.empty())
+      for (int k = 0; k < 3; ++k) {
+        out.character(' ');
+        out.number(static_cast<float>(colour_byte(colors, v, k) / 255.0));
+      }
     out.character('\n');
   }
   for (std::size_t f = 0; f < faces.count(); ++f) {
@@ -254,27 +275,41 @@ void write_obj(Output& out, const std::vector<double>& positions, const Faces& f
 }
 
 template <class Faces>
-void write_ply(Output& out, const std::vector<double>& positions, const Faces& faces, bool binary) {
+void write_ply(Output& out, const std::vector<double>& positions, const Faces& faces, bool binary,
+               std::span<const double> colors) {
   const std::size_t V = positions.size() / 3;
   std::size_t largest = 0;
   for (std::size_t f = 0; f < faces.count(); ++f) largest = std::max(largest, faces.size(f));
   const bool byte_counts = largest <= 255;  // a face's corner count in a uchar where it fits
   out.text(std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") + " 1.0\nelement vertex " +
-           std::to_string(V) + "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+           std::to_string(V) + "\nproperty float x\nproperty float y\nproperty float z\n" +
+           (colors.empty() ? "" : "property uchar red\nproperty uchar green\nproperty uchar blue\n") + "element face " +
            std::to_string(faces.count()) + "\nproperty list " + (byte_counts ? "uchar" : "int") +
            " int vertex_indices\nend_header\n");
   // Binary vertices, and triangles with a uchar count, are made in place a block at a time.
   constexpr std::size_t kBlock = 4096;
-  if (binary) {
+  if (binary && colors.empty()) {
     for (std::size_t first = 0; first < V; first += kBlock) {
       const std::size_t n = std::min(kBlock, V - first);
       char* at = out.room(12 * n);
       for (std::size_t i = 0; i < 3 * n; ++i) store_little_endian(at + 4 * i, static_cast<float>(positions[3 * first + i]));
       out.filled();
     }
+  } else if (binary) {
+    for (std::size_t first = 0; first < V; first += kBlock) {
+      const std::size_t n = std::min(kBlock, V - first);
+      char* at = out.room(15 * n);
+      for (std::size_t i = 0; i < n; ++i, at += 15) {
+        for (std::size_t k = 0; k < 3; ++k)
+          store_little_endian(at + 4 * k, static_cast<float>(positions[3 * (first + i) + k]));
+        for (int k = 0; k < 3; ++k) at[12 + k] = static_cast<char>(colour_byte(colors, first + i, k));
+      }
+      out.filled();
+    }
   } else {
     for (std::uint32_t v = 0; v < V; ++v) {
       write_point(out, stored_point(positions, v));
+      if (!colors.empty()) write_colour(out, colors, v);
       out.character('\n');
     }
   }
@@ -361,12 +396,15 @@ void write_stl(Output& out, const std::vector<double>& positions, const Faces& f
 }
 
 template <class Faces>
-void write_faces(const std::string& path, const std::vector<double>& positions, const Faces& faces, bool binary) {
+void write_faces(const std::string& path, const std::vector<double>& positions, const Faces& faces, bool binary,
+                 std::span<const double> colors) {
   const std::string ext = extension_of(path);
   if (!is_supported_extension(ext))
     fail(path, "unknown mesh file extension '" + ext + "' (supported: obj, off, ply, stl)");
   if (positions.size() % 3 != 0) fail(path, "positions array length is not a multiple of 3");
   const std::size_t vertex_count = positions.size() / 3;
+  if (!colors.empty() && colors.size() != positions.size())
+    fail(path, "colours array length is not 3 per vertex");
   // The files store 32-bit floats: a coordinate outside their range would be written as "inf"
   // (or a binary infinity), a file no reader accepts back.
   for (std::size_t i = 0; i < positions.size(); ++i)
@@ -410,13 +448,13 @@ void write_faces(const std::string& path, const std::vector<double>& positions, 
     {
       Output o(out);
       if (ext == "off")
-        write_off(o, positions, faces);
+        write_off(o, positions, faces, colors);
       else if (ext == "obj")
-        write_obj(o, positions, faces);
+        write_obj(o, positions, faces, colors);
       else if (ext == "ply")
-        write_ply(o, positions, faces, binary);
+        write_ply(o, positions, faces, binary, colors);
       else
-        write_stl(o, positions, faces, binary);
+        write_stl(o, positions, faces, binary);  // STL has no vertex colours
     }
     out.flush();
     written = out.good();
@@ -441,12 +479,12 @@ void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) {
     fail(path, "face_offsets does not span face_indices");
   for (std::size_t f = 0; f < mesh.face_count(); ++f)
     if (mesh.face_offsets[f + 1] < mesh.face_offsets[f]) fail(path, "face_offsets is not increasing");
-  write_faces(path, mesh.positions, PolygonFaces{mesh}, binary);
+  write_faces(path, mesh.positions, PolygonFaces{mesh}, binary, mesh.colors);
 }
 
-void write_mesh(const std::string& path, const TriangleMesh& mesh, bool binary) {
+void write_mesh(const std::string& path, const TriangleMesh& mesh, bool binary, std::span<const double> colors) {
   if (mesh.triangles.size() % 3 != 0) fail(path, "triangles array length is not a multiple of 3");
-  write_faces(path, mesh.positions, TriangleFaces{mesh.triangles}, binary);
+  write_faces(path, mesh.positions, TriangleFaces{mesh.triangles}, binary, colors);
 }
 
 }  // namespace meshlift

@@ -3,6 +3,7 @@
 
 #include "file_text.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -14,6 +15,7 @@ using file_text::fail;
 
 PolygonMesh read_obj(const std::string& path, std::string_view text) {
   PolygonMesh mesh;
+  bool every_vertex_coloured = true;
   text = file_text::without_byte_order_mark(text);
   std::size_t at = 0, line_number = 0;
   while (at < text.size()) {
@@ -34,6 +36,13 @@ PolygonMesh read_obj(const std::string& path, std::string_view text) {
         if (!x) fail(path, where() + ": a vertex coordinate is missing or not a finite number");
         mesh.positions.push_back(*x);
       }
+      // `v x y z r g b`: a vertex colour (decimals 0-1, as MeshLab writes it); kept where every
+      // vertex has one. Anything else after the coordinates (w) is ignored.
+      std::optional<double> rgb[3];
+      for (auto& c : rgb) c = file_text::parse_decimal<double>(word());
+      const bool coloured = rgb[0] && rgb[1] && rgb[2] && word().empty();
+      every_vertex_coloured &= coloured;
+      for (const auto& c : rgb) mesh.colors.push_back(coloured ? std::clamp(*c, 0.0, 1.0) : 0.0);
     } else if (keyword == "f") {
       const std::size_t first = mesh.face_indices.size();
       const auto vertices = static_cast<std::int64_t>(mesh.vertex_count());
@@ -50,6 +59,7 @@ PolygonMesh read_obj(const std::string& path, std::string_view text) {
       mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
     }
   }
+  if (!every_vertex_coloured || mesh.colors.empty()) mesh.colors = {};
   return mesh;
 }
 

@@ -16,8 +16,11 @@ namespace meshlift {
 /// Read line by line (LF, CRLF or a lone CR end a line); `#` starts a comment to the end of
 /// its line. What is kept:
 /// - `v x y z [...]`: a vertex; the three coordinates are parsed as 32-bit floats, rounded as
-///   strtof rounds (as OpenMesh's reader did); anything after them (w, a colour) is ignored. A
-///   missing coordinate, NaN, an infinity or a value beyond the float range is an error.
+///   strtof rounds (as OpenMesh's reader did). Exactly three more numbers after them are the
+///   vertex's colour, red, green, blue in [0, 1] (`v x y z r g b`, as MeshLab writes it), kept
+///   (PolygonMesh::colors, clamped to [0, 1]) where every vertex has one; anything else after
+///   them (w) is ignored. A missing coordinate, NaN, an infinity or a value beyond the float
+///   range is an error.
 /// - `f c_1 c_2 ...`: a face, its corners as written (repeated ones included: validate_mesh
 ///   judges them). A corner is `v`, `v/vt`, `v//vn` or `v/vt/vn`; only v is read: a positive
 ///   index counts from 1, a negative one back from the last vertex read so far (-1 is the last),

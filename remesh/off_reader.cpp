@@ -2,6 +2,7 @@
 
 #include "file_text.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -40,11 +41,13 @@ class Tokenizer {
     return token;
   }
 
-  /// Consumes the tokens left on `line` and returns how many there were.
-  std::size_t skip_rest_of_line(std::size_t line) {
+  /// Consumes the tokens left on `line` and returns how many there were; the first `keep` of
+  /// them are written to `kept`.
+  std::size_t skip_rest_of_line(std::size_t line, std::string_view* kept = nullptr, std::size_t keep = 0) {
     std::size_t count = 0;
     for (skip_blanks(); position_ < text_.size() && line_ == line; skip_blanks()) {
-      next();
+      const Token token = next();
+      if (count < keep) kept[count] = token.text;
       ++count;
     }
     return count;
@@ -198,12 +201,27 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
       }
     }
     mesh.positions.insert(mesh.positions.end(), {double(coordinate[0]), double(coordinate[1]), double(coordinate[2])});
-    const std::size_t extras = tokens.skip_rest_of_line(token.line);
+    std::string_view extra[6];  // a normal's 3, then a colour's first 3
+    const std::size_t extras = tokens.skip_rest_of_line(token.line, extra, 6);
     if (extras < layout.minimum_extras())
       fail("vertex " + std::to_string(v) + " has " + std::to_string(extras) + " numbers after its coordinates, but the " +
                layout.keyword + " header declares at least " + std::to_string(layout.minimum_extras()) +
                " (normal: 3, colour: 3 or 4, texture coordinates: 2)",
            token.line);
+    if (layout.colour) {
+      // Red, green, blue after the normal, if any: three integers are 0-255, else decimals 0-1
+      // (Geomview's two forms).
+      const std::string_view* rgb = extra + (layout.normal ? 3 : 0);
+      bool bytes = true;
+      for (std::size_t k = 0; k < 3; ++k) bytes &= file_text::parse_integer(rgb[k]).has_value();
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::optional<double> value = file_text::parse_decimal<double>(rgb[k]);
+        if (!value)
+          fail("vertex " + std::to_string(v) + " has a colour component that is not a number: " + file_text::quoted(rgb[k]),
+               token.line);
+        mesh.colors.push_back(std::clamp(bytes ? *value / 255.0 : *value, 0.0, 1.0));
+      }
+    }
   }
 
   for (std::size_t f = 0; f < faces; ++f) {

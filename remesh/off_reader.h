@@ -23,8 +23,10 @@ namespace meshlift {
 ///   F's line, is ignored.
 /// - V vertices: 3 coordinates (4 with `4`: x y z w, stored as x/w y/w z/w), then on the same
 ///   line the extras the prefixes declare, at least: N a normal (3 numbers), C a colour (3 or 4),
-///   ST texture coordinates (2). Too few extras is an error; they are not stored; anything after
-///   them on the line is ignored.
+///   ST texture coordinates (2), in that order. Too few extras is an error. Of them only the
+///   colour is kept (PolygonMesh::colors: red, green, blue; three integers are 0-255, else the
+///   three are decimals 0-1, Geomview's two forms; each clamped to [0, 1]); anything after them
+///   on the line is ignored.
 /// - F faces: `n i_1 .. i_n` with 3 <= n <= V and 0 <= i_k < V; the rest of the line of i_n
 ///   (the face colour, present with or without the C prefix) is ignored.
 /// - Anything after the last face is ignored.

@@ -52,7 +52,7 @@ std::size_t size_of(Type t) {
 bool is_float(Type t) { return t == Type::f32 || t == Type::f64; }
 
 /// What the reader does with a property's values.
-enum class Role : std::uint8_t { skip, x, y, z, corners };
+enum class Role : std::uint8_t { skip, x, y, z, corners, red, green, blue };
 
 struct Property {
   std::string name;
@@ -292,7 +292,7 @@ std::uint64_t read_bulk(const Element& e, BinaryBody& body, PolygonMesh& mesh) {
     Type type[3] = {Type::f64, Type::f64, Type::f64};
     bool found[3] = {false, false, false};
     for (const Property& p : e.properties) {
-      if (p.count_type) return 0;
+      if (p.count_type || p.role >= Role::red) return 0;  // colours go the general way
       if (p.role == Role::x || p.role == Role::y || p.role == Role::z) {
         if (!is_float(p.type)) return 0;
         const int k = static_cast<int>(p.role) - 1;
@@ -334,6 +334,36 @@ std::uint64_t read_bulk(const Element& e, BinaryBody& body, PolygonMesh& mesh) {
   return 0;
 }
 
+/// A colour property's value in [0, 1]: an integer type's value over its largest (uchar 255,
+/// ushort 65535, ...), a float's as it is, each clamped to [0, 1].
+double colour_value(Type t, double value) {
+  double largest = 1;
+  switch (t) {
+    case Type::i8:
+      largest = 127;
+      break;
+    case Type::u8:
+      largest = 255;
+      break;
+    case Type::i16:
+      largest = 32767;
+      break;
+    case Type::u16:
+      largest = 65535;
+      break;
+    case Type::i32:
+      largest = 2147483647.0;
+      break;
+    case Type::u32:
+      largest = 4294967295.0;
+      break;
+    case Type::f32:
+    case Type::f64:
+      break;
+  }
+  return std::clamp(value / largest, 0.0, 1.0);
+}
+
 /// Reads every element of the body into `mesh`.
 template <class Body>
 void read_body(const std::string& path, const Header& h, Body& body, PolygonMesh& mesh) {
@@ -351,7 +381,10 @@ void read_body(const std::string& path, const Header& h, Body& body, PolygonMesh
                      std::to_string(body.left()) + " bytes left hold");
     // Reserved within the bytes left (each kept value is read from one byte at least).
     const bool vertices = e.name == "vertex", faces = e.name == "face";
+    const bool colours = vertices && std::any_of(e.properties.begin(), e.properties.end(),
+                                                 [](const Property& p) { return p.role >= Role::red; });
     if (vertices) mesh.positions.reserve(mesh.positions.size() + std::min<std::uint64_t>(3 * e.count, body.left()));
+    if (colours) mesh.colors.reserve(mesh.colors.size() + std::min<std::uint64_t>(3 * e.count, body.left()));
     if (faces) {
       mesh.face_offsets.reserve(mesh.face_offsets.size() + e.count);
       mesh.face_indices.reserve(mesh.face_indices.size() + std::min<std::uint64_t>(3 * e.count, body.left()));
@@ -360,12 +393,13 @@ void read_body(const std::string& path, const Header& h, Body& body, PolygonMesh
     if constexpr (std::is_same_v<Body, BinaryBody>) first = read_bulk(e, body, mesh);
     for (std::uint64_t item = first; item < e.count; ++item) {
       if constexpr (std::is_same_v<Body, AsciiBody>) body.element = &e.name, body.index = item;
-      double xyz[3] = {0, 0, 0};
+      double xyz[3] = {0, 0, 0}, rgb[3] = {0, 0, 0};
       for (const Property& p : e.properties) {
         if (!p.count_type) {
           double value;
           if (!body.number(p.type, value)) ended(e, item);
           if (p.role == Role::x || p.role == Role::y || p.role == Role::z) xyz[static_cast<int>(p.role) - 1] = value;
+          if (p.role >= Role::red) rgb[static_cast<int>(p.role) - static_cast<int>(Role::red)] = colour_value(p.type, value);
           continue;
         }
         std::int64_t count;
@@ -383,6 +417,7 @@ void read_body(const std::string& path, const Header& h, Body& body, PolygonMesh
         if (p.role == Role::corners) mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
       }
       if (vertices) mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
+      if (colours) mesh.colors.insert(mesh.colors.end(), rgb, rgb + 3);
     }
   }
 }
@@ -394,10 +429,19 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
   bool has_x = false, has_y = false, has_z = false;
   for (Element& e : h.elements) {
     bool corners = false;
+    int colour_channels = 0;
     for (Property& p : e.properties) {
       if (e.name == "vertex" && !p.count_type && (p.name == "x" || p.name == "y" || p.name == "z")) {
         p.role = p.name == "x" ? Role::x : p.name == "y" ? Role::y : Role::z;
         (p.name == "x" ? has_x : p.name == "y" ? has_y : has_z) = true;
+      }
+      // Vertex colours: red, green, blue (or diffuse_red, ... as some scanners write them).
+      if (e.name == "vertex" && !p.count_type) {
+        const std::string_view n = std::string_view(p.name).substr(p.name.rfind("diffuse_", 0) == 0 ? 8 : 0);
+        if (n == "red" || n == "green" || n == "blue") {
+          p.role = n == "red" ? Role::red : n == "green" ? Role::green : Role::blue;
+          ++colour_channels;
+        }
       }
       if (e.name == "face" && p.count_type && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
         if (is_float(p.type)) fail(path, "PLY face corners (" + quoted(p.name) + ") must be of an integer type");
@@ -407,6 +451,10 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
     }
     if (e.name == "face" && e.count > 0 && !corners)
       fail(path, "PLY face element has no 'vertex_indices' list");
+    // Colours only where all three are there, once each: else read past.
+    if (colour_channels != 3)
+      for (Property& p : e.properties)
+        if (p.role >= Role::red) p.role = Role::skip;
   }
   const bool any_vertex = std::any_of(h.elements.begin(), h.elements.end(), [](const Element& e) { return e.name == "vertex"; });
   if (any_vertex && !(has_x && has_y && has_z)) fail(path, "PLY vertex element lacks an x, y or z property");

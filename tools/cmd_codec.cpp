@@ -94,10 +94,16 @@ struct EncodeArgs {
   std::size_t bytes = 0;
 };
 
+/// The colour channel's precision: a step of 2^-9 of each component's range (at most 1/512), so
+/// that a colour read from bytes and decoded whole rounds back to the same byte (an error of at
+/// most 1/1024 of the range is a quarter of a byte step).
+constexpr int kColourBits = 9;
+
 int run_encode(const EncodeArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
   std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
+  const std::optional<InputColours> colours = input_colours(*loaded);
   TriangleMesh input = triangles_of(a.input, std::move(*loaded), {a.remesh.weld, a.remesh.orient});
   loaded.reset();
   // Any triangle mesh: taken over if it already is semi-regular, else remeshed (remesh.h). A mesh
@@ -111,8 +117,16 @@ int run_encode(const EncodeArgs& a) {
   // Only its vertex count is read from here on (the semi-regular mesh holds its own copy).
   const std::size_t vertices = input.vertex_count();
   input = TriangleMesh{};
-  const SemiRegularMesh* mesh = &remeshed->mesh;
+  SemiRegularMesh* mesh = &remeshed->mesh;
   EncodeOptions options;
+  if (colours) {
+    // The input's vertex colours, read off its surface at each vertex of the semi-regular mesh,
+    // coded as the stream's first channel and marked as the colour (FORMAT.md §3).
+    std::optional<std::vector<double>> at = colours_at(a.input, *colours, mesh->positions);
+    if (!at) return kBadInput;
+    mesh->channels.insert(mesh->channels.begin(), VertexChannel{3, std::move(*at), true});
+    options.channel_precision_bits = kColourBits;
+  }
   options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh, a.frames.update) : parse_scheme(a.scheme);
   options.precision_bits = a.bits;
   apply_frame_options(a.frames, options);
@@ -186,7 +200,7 @@ int run_decode(const DecodeArgs& a) {
     print_failure(a.input, r);
     return kBadInput;
   }
-  if (!save_mesh(a.output, r.mesh, a.binary)) return kOutputError;
+  if (!save_mesh(a.output, r.mesh, a.binary, decoded_colours(r.channels))) return kOutputError;
   if (a.stats)
     std::fprintf(stderr,
                  "%s: %zu of %zu bytes, level %d of %d, bit plane %d%s%s: %zu vertices, %zu faces; decode %.3f ms "
@@ -286,7 +300,7 @@ int run_stream(const StreamArgs& a) {
       const std::string path = (std::filesystem::path(a.directory) / name).string();
       if (!check_distinct_output(a.input, path) || (!a.reference.empty() && !check_distinct_output(a.reference, path)))
         return kOutputError;
-      if (!save_mesh(path, r.mesh, true)) return kOutputError;
+      if (!save_mesh(path, r.mesh, true, decoded_colours(r.channels))) return kOutputError;
       ++written;
     }
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());

@@ -48,7 +48,8 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
               << ",\n  \"tangent_shift\": " << info.tangent_shift << ",\n  \"channels\": [";
     for (std::size_t i = 0; i < info.channels.size(); ++i)
       std::cout << (i ? ", " : "") << "{\"components\": " << info.channels[i].components
-                << ", \"step\": " << info.channels[i].step << "}";
+                << ", \"step\": " << info.channels[i].step
+                << (i == 0 && info.colour ? ", \"colour\": true" : "") << "}";
     std::cout << "],\n  \"base_share_percent\": " << share << ",\n  \"base_part_bytes\": " << info.base_part_bytes
               << ",\n  \"chunks\": [";
     for (std::size_t i = 0; i < info.chunks.size(); ++i)
@@ -69,8 +70,9 @@ int run_stream_info(const InfoOptions& options, const std::vector<std::uint8_t>&
               << "\n  details:      "
               << (info.local_frames ? "local frames (normal, tangents at step x 2^" + std::to_string(info.tangent_shift) + ")"
                                     : std::string("x, y, z"));
-    for (const auto& c : info.channels)
-      std::cout << "\n  channel:      " << c.components << " component(s), step " << c.step;
+    for (std::size_t i = 0; i < info.channels.size(); ++i)
+      std::cout << "\n  channel:      " << info.channels[i].components << " component(s), step " << info.channels[i].step
+                << (i == 0 && info.colour ? " (the vertices' colour: red, green, blue)" : "");
     std::cout << "\n  header + base connectivity: " << base_bytes << " bytes (" << share << " % of the file)";
     if (info.base_part_bytes > 0)
       std::cout << "\n  base part:    " << info.base_part_bytes << " bytes (" << percent(info.base_part_bytes)

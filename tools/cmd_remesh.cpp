@@ -27,6 +27,7 @@ int run_remesh(const RemeshArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
   std::optional<PolygonMesh> loaded = load_mesh(a.input);
   if (!loaded) return kBadInput;
+  const std::optional<InputColours> colours = input_colours(*loaded);
   const TriangleMesh input = triangles_of(a.input, std::move(*loaded), {a.remesh.weld, a.remesh.orient});
   loaded.reset();
   const auto t0 = std::chrono::steady_clock::now();
@@ -34,7 +35,11 @@ int run_remesh(const RemeshArgs& a) {
   if (!result) return kBadInput;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const TriangleMesh out = result->mesh.finest();
-  if (!save_mesh(a.output, out, a.binary)) return kOutputError;
+  // The input's vertex colours, read off its surface at each remesh vertex.
+  std::optional<std::vector<double>> out_colours;
+  if (colours && !(out_colours = colours_at(a.input, *colours, out.positions))) return kBadInput;
+  if (!save_mesh(a.output, out, a.binary, out_colours ? std::span<const double>(*out_colours) : std::span<const double>()))
+    return kOutputError;
   print_remesh_summary(a.input, input, *result, seconds);
   return kOk;
 }

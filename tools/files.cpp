@@ -9,6 +9,7 @@
 #include <random>
 
 #include "meshlift/mesh_io.h"
+#include "meshlift/transfer.h"
 
 namespace meshlift::cli {
 
@@ -138,11 +139,11 @@ std::string describe(const Triangulation& t) {
 }
 
 namespace {
-template <class Mesh>
-bool save(const std::string& path, const Mesh& mesh, bool binary) {
+template <class Mesh, class... Colours>
+bool save(const std::string& path, const Mesh& mesh, bool binary, Colours... colors) {
   const DeferredSignals deferred;  // write_mesh writes a temporary file and renames it
   try {
-    write_mesh(path, mesh, binary);
+    write_mesh(path, mesh, binary, colors...);
     return true;
   } catch (const MeshIOError& e) {
     std::cerr << "meshlift: " << e.what() << "\n";
@@ -152,6 +153,29 @@ bool save(const std::string& path, const Mesh& mesh, bool binary) {
 }  // namespace
 
 bool save_mesh(const std::string& path, const PolygonMesh& mesh, bool binary) { return save(path, mesh, binary); }
-bool save_mesh(const std::string& path, const TriangleMesh& mesh, bool binary) { return save(path, mesh, binary); }
+bool save_mesh(const std::string& path, const TriangleMesh& mesh, bool binary, std::span<const double> colors) {
+  return save(path, mesh, binary, colors);
+}
+
+std::optional<InputColours> input_colours(const PolygonMesh& loaded) {
+  if (loaded.colors.empty()) return std::nullopt;
+  InputColours c{loaded.is_triangle_mesh() ? to_triangle_mesh(loaded) : triangulate(loaded).mesh, loaded.colors};
+  return c;
+}
+
+std::optional<std::vector<double>> colours_at(const std::string& path, const InputColours& input,
+                                              std::span<const double> points) {
+  try {
+    return transfer_vertex_values(SurfaceQuery(input.mesh), input.colors, 3, points);
+  } catch (const MeshError& e) {
+    std::cerr << "meshlift: " << path << ": the vertex colours: " << e.what() << "\n";
+    return std::nullopt;
+  }
+}
+
+std::span<const double> decoded_colours(const std::vector<VertexChannel>& channels) {
+  if (channels.empty() || !channels.front().colour) return {};
+  return channels.front().values;
+}
 
 }  // namespace meshlift::cli

@@ -6,10 +6,12 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "meshlift/mesh.h"
+#include "meshlift/semi_regular.h"
 #include "meshlift/triangulate.h"
 #include "meshlift/validate.h"
 #include "meshlift/orient.h"
@@ -65,8 +67,26 @@ RepairAdvice repair_advice(const TriangleMesh& mesh, const MeshReport& report);
 /// That note's text for a triangulation: `6 quads and 0 larger polygons split into 12 triangles`, ...
 std::string describe(const Triangulation& t);
 
-/// Writes an output mesh; on failure prints the one-line error and returns false.
+/// Writes an output mesh; on failure prints the one-line error and returns false. `colors`: the
+/// vertices' red, green, blue in [0, 1], or empty (mesh_io.h: write_mesh).
 bool save_mesh(const std::string& path, const PolygonMesh& mesh, bool binary);
-bool save_mesh(const std::string& path, const TriangleMesh& mesh, bool binary);
+bool save_mesh(const std::string& path, const TriangleMesh& mesh, bool binary, std::span<const double> colors = {});
+
+/// An input's vertex colours (PolygonMesh::colors) and the surface they belong to: the input as
+/// read, triangulated, before any repair (which may join or drop vertices).
+struct InputColours {
+  TriangleMesh mesh;
+  std::vector<double> colors;
+};
+/// `loaded`'s colours, or nullopt if it has none.
+std::optional<InputColours> input_colours(const PolygonMesh& loaded);
+/// The input's colours at `points` (xyz triples, e.g. a remesh's vertices): those of its surface at
+/// each point's closest point (transfer.h). On failure prints the one-line error and returns
+/// nullopt.
+std::optional<std::vector<double>> colours_at(const std::string& path, const InputColours& input,
+                                              std::span<const double> points);
+/// A decoded stream's colours: its first channel's values where the stream marks it as the
+/// colour (FORMAT.md §3, flag bit 3), else empty.
+std::span<const double> decoded_colours(const std::vector<VertexChannel>& channels);
 
 }  // namespace meshlift::cli

@@ -404,7 +404,7 @@ def read_header(payload):
     scheme, flags, levels, top_plus_one, base_plane = u8(), u8(), u8(), u8(), u8()
     if scheme > 2:
         raise DecodeError('corrupt', 'unknown wavelet scheme %d' % scheme)
-    if flags & 0xF8:
+    if flags & 0xF0:
         raise DecodeError('reserved_bits_set', 'reserved header flag bits set')
     if levels > MAX_LEVELS:
         raise DecodeError('limit_exceeded', 'header claims %d levels' % levels)
@@ -417,6 +417,7 @@ def read_header(payload):
     h.update = bool(flags & 1)
     h.local_frames = bool(flags & 2)
     h.extra_channels = bool(flags & 4)
+    h.colour = bool(flags & 8)   # the first channel is the vertices' red, green, blue
     h.levels = levels
     h.top_plane = top_plus_one - 1
     h.base_plane = base_plane
@@ -452,6 +453,8 @@ def read_header(payload):
             step = f64()
             centre = [f32() for _ in range(m)]
             h.channels.append((m, step, centre))
+    if h.colour and (not h.channels or h.channels[0][0] != 3):
+        raise DecodeError('corrupt', 'the colour flag without a first channel of 3 components')
     if pos != len(payload):
         raise DecodeError('corrupt', 'header chunk has %d unexpected trailing bytes'
                           % (len(payload) - pos))
@@ -1385,8 +1388,9 @@ def synthesize(h, levels, coef, target_level):
 # Whole file
 # ---------------------------------------------------------------------------------------------
 
-def decode(data, level=None):
-    """Bytes (a whole file or a prefix) -> (positions [(x, y, z)], faces [(a, b, c)])."""
+def decode(data, level=None, colours=None):
+    """Bytes (a whole file or a prefix) -> (positions [(x, y, z)], faces [(a, b, c)]). If `colours`
+    is a list, it receives the vertices' colours [(r, g, b)] where flag bit 3 marks them (§3)."""
     read_file_header(data)
     chunks = read_chunks(data)
     head, base, stream = classify_chunks(chunks)
@@ -1398,6 +1402,8 @@ def decode(data, level=None):
     target = h.levels if level is None else min(level, h.levels)
     values = synthesize(h, levels, coef, target)
     positions = list(zip(values[0], values[1], values[2]))
+    if colours is not None and h.colour:
+        colours.extend(zip(values[3], values[4], values[5]))
     return positions, levels[target].faces
 
 

@@ -448,7 +448,8 @@ TEST_CASE("header parameters that would overflow a decode are refused", "[codec]
   CHECK(with_head(2, 1e-3, 1.0, {}).status == Status::corrupt);    // frame flag without its byte
   CHECK(with_head(4, 1e-3, 1.0, {5}).status == Status::corrupt);   // 5 channels
   CHECK(with_head(4, 1e-3, 1.0, {1, 5}).status == Status::corrupt);  // a 5-component channel
-  CHECK(with_head(8, 1e-3, 1.0, {}).status == Status::reserved_bits_set);
+  CHECK(with_head(8, 1e-3, 1.0, {}).status == Status::corrupt);  // the colour flag without channels
+  CHECK(with_head(16, 1e-3, 1.0, {}).status == Status::reserved_bits_set);
   // The base plane (FORMAT.md §3): at most top_plane + 1, and at most 29 planes below it.
   const DecodeResult above_top = with_head(0, 1e-3, 1.0, {}, 20, 21);
   CHECK(above_top.status == Status::corrupt);
@@ -723,6 +724,40 @@ TEST_CASE("extra channels: full-rate round trip within their step, geometry unch
     REQUIRE(alone.status == Status::ok);
     CHECK(r.mesh.positions == alone.mesh.positions);
   }
+}
+
+TEST_CASE("a colour channel is marked in the stream and comes back marked", "[codec][channels]") {
+  SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 3));
+  std::swap(mesh.channels[0], mesh.channels[1]);  // the colour first
+  mesh.channels[0].colour = true;
+  const auto file = encode(mesh, {});
+  CHECK(inspect(file).colour);
+  DecodeOptions prefix;
+  prefix.max_bytes = file.size() / 2;
+  Decoder streaming;
+  streaming.push(std::span(file).first(file.size() / 3));
+  for (const DecodeResult& r : {decode(file), decode(file, prefix), streaming.mesh()}) {
+    REQUIRE(r.status == Status::ok);
+    REQUIRE(r.channels.size() == 2);
+    CHECK(r.channels[0].colour);
+    CHECK_FALSE(r.channels[1].colour);
+  }
+  // Unmarked, the same values come back unmarked, and the header is one flag bit apart.
+  mesh.channels[0].colour = false;
+  const auto plain = encode(mesh, {});
+  CHECK_FALSE(inspect(plain).colour);
+  CHECK_FALSE(decode(plain).channels[0].colour);
+  REQUIRE(plain.size() == file.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < file.size(); ++i) differing += file[i] != plain[i];
+  CHECK(differing <= 1 + container::kChecksumBytes);  // the flag byte and the header chunk's checksum
+  // Only the first channel, of 3 components, can be the colour.
+  mesh.channels[1].colour = true;
+  CHECK_THROWS_AS(encode(mesh, {}), MeshError);
+  std::swap(mesh.channels[0], mesh.channels[1]);
+  mesh.channels[0].colour = true;
+  mesh.channels[1].colour = false;
+  CHECK_THROWS_AS(encode(mesh, {}), MeshError);  // the scalar channel
 }
 
 TEST_CASE("extra channels: every prefix decodes them and their error falls with the bytes read", "[codec][channels][prefix]") {

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "meshlift/closest_point.h"
+#include "meshlift/transfer.h"
 #include "test_meshes.h"
 
 using meshlift::closest_point_on_triangle;
@@ -227,4 +228,30 @@ TEST_CASE("SurfaceQuery rejects meshes without faces or with bad coordinates", "
   SurfaceQuery moved = SurfaceQuery(meshlift::test::icosahedron());
   REQUIRE(moved.closest({0, 0, 0}).distance > 0.7);
   REQUIRE(moved.mesh().face_count() == 20);
+}
+
+TEST_CASE("values carried by closest points: exact at the vertices, blended between them", "[closest_point][transfer]") {
+  using namespace meshlift;
+  const TriangleMesh mesh = test::torus(12, 9);
+  const SurfaceQuery surface(mesh);
+  const std::size_t V = mesh.vertex_count();
+  std::vector<double> values(2 * V);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = std::sin(0.7 * static_cast<double>(i)) + 2;
+  // At the vertices themselves: their own values, bit for bit, on any thread count.
+  for (const unsigned threads : {1u, 2u}) REQUIRE(transfer_vertex_values(surface, values, 2, mesh.positions, threads) == values);
+  // At an edge's midpoint (its own closest point): the mean of the edge's ends' values.
+  std::vector<double> points;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
+  for (std::size_t f = 0; f < mesh.face_count(); f += 7) {
+    const std::uint32_t a = mesh.triangles[3 * f], b = mesh.triangles[3 * f + 1];
+    for (int k = 0; k < 3; ++k) points.push_back(0.5 * (mesh.positions[3 * a + k] + mesh.positions[3 * b + k]));
+    ends.emplace_back(a, b);
+  }
+  const std::vector<double> at = transfer_vertex_values(surface, values, 2, points);
+  REQUIRE(at.size() == 2 * ends.size());
+  for (std::size_t i = 0; i < ends.size(); ++i)
+    for (std::size_t k = 0; k < 2; ++k)
+      REQUIRE(at[2 * i + k] == Approx(0.5 * (values[2 * ends[i].first + k] + values[2 * ends[i].second + k])).epsilon(1e-12));
+  values.pop_back();
+  REQUIRE_THROWS_AS(transfer_vertex_values(surface, values, 2, points), MeshError);
 }

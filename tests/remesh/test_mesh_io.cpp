@@ -311,3 +311,72 @@ TEST_CASE("meshlift info prints a report or a one-line error", "[mesh_io][cli]")
   REQUIRE(run(dir.file("stream.mlz")) == 3);
   REQUIRE_THAT(read_bytes(err), Catch::Contains("truncated (error 1)"));
 }
+
+TEST_CASE("vertex colours are read and written in PLY, OFF and OBJ, as bytes", "[mesh_io]") {
+  ScratchDir dir("colours");
+  // Over 4,096 vertices (binary PLY writes its vertices a block at a time), each colour a byte.
+  PolygonMesh mesh = to_polygon_mesh(test::torus(80, 60));
+  std::vector<int> bytes;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    bytes.push_back(static_cast<int>((i * 37 + i / 3) % 256));
+    mesh.colors.push_back(bytes.back() / 255.0);
+  }
+  for (const auto& [ext, binary] : std::vector<std::pair<std::string, bool>>{{"ply", true}, {"ply", false}, {"off", false}, {"obj", false}}) {
+    const std::string path = dir.file("coloured" + std::string(binary ? "_bin." : ".") + ext);
+    INFO(path);
+    write_mesh(path, mesh, binary);
+    const PolygonMesh read = read_mesh(path);
+    require_same_mesh(mesh, read);
+    REQUIRE(read.colors.size() == mesh.colors.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+      REQUIRE(std::lround(255 * read.colors[i]) == bytes[i]);
+      REQUIRE(std::abs(read.colors[i] - bytes[i] / 255.0) <= 1e-6);
+    }
+    // The TriangleMesh overload with the colours beside it writes the same file.
+    write_mesh(dir.file("again." + ext), to_triangle_mesh(mesh), binary, mesh.colors);
+    REQUIRE(read_bytes(dir.file("again." + ext)) == read_bytes(path));
+  }
+  // STL stores none; a mesh without colours reads back without.
+  write_mesh(dir.file("c.stl"), mesh, true);
+  REQUIRE(read_mesh(dir.file("c.stl")).colors.empty());
+  mesh.colors.pop_back();
+  REQUIRE_THROWS_AS(write_mesh(dir.file("bad.ply"), mesh), MeshIOError);
+  mesh.colors.clear();
+  write_mesh(dir.file("plain.ply"), mesh);
+  REQUIRE(read_mesh(dir.file("plain.ply")).colors.empty());
+}
+
+TEST_CASE("colours in the forms other tools write them", "[mesh_io]") {
+  ScratchDir dir("colour_forms");
+  const std::string triangle = "3 0 1 2\n";
+  // PLY: float components as they are, scanners' diffuse_ names, ushort over 65535; an element
+  // with only two of the three is read past.
+  write_bytes(dir.file("a.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property float red\nproperty float green\nproperty float blue\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n0 0 0 1 0.5 0\n1 0 0 0 0 2\n0 1 0 0.25 0.75 -1\n" +
+                  triangle);
+  REQUIRE(read_mesh(dir.file("a.ply")).colors == std::vector<double>{1, 0.5, 0, 0, 0, 1, 0.25, 0.75, 0});
+  write_bytes(dir.file("b.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property uchar diffuse_red\nproperty uchar diffuse_green\nproperty ushort diffuse_blue\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n0 0 0 255 0 65535\n1 0 0 0 51 0\n0 1 0 0 0 0\n" + triangle);
+  REQUIRE(read_mesh(dir.file("b.ply")).colors == std::vector<double>{1, 0, 1, 0, 0.2, 0, 0, 0, 0});
+  write_bytes(dir.file("c.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property uchar red\nproperty uchar green\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n0 0 0 1 2\n1 0 0 3 4\n0 1 0 5 6\n" + triangle);
+  REQUIRE(read_mesh(dir.file("c.ply")).colors.empty());
+  // OFF: integers are 0-255, decimals 0-1 (Geomview); a normal comes first; alpha is ignored.
+  write_bytes(dir.file("d.off"), "CNOFF\n3 1 0\n0 0 0 0 0 1 255 0 51 255\n1 0 0 0 0 1 0.5 1 0\n0 1 0 0 0 1 0 0 0 1\n" + triangle);
+  REQUIRE(read_mesh(dir.file("d.off")).colors == std::vector<double>{1, 0, 0.2, 0.5, 1, 0, 0, 0, 0});
+  write_bytes(dir.file("e.off"), "COFF\n3 1 0\n0 0 0 1 2\n1 0 0 1 2 3\n0 1 0 1 2 3\n" + triangle);
+  REQUIRE_THROWS_AS(read_mesh(dir.file("e.off")), MeshIOError);  // a vertex short of its colour
+  // OBJ: `v x y z r g b` where every vertex has one; else none (and `v x y z w` is no colour).
+  write_bytes(dir.file("f.obj"), "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\nf 1 2 3\n");
+  REQUIRE(read_mesh(dir.file("f.obj")).colors == std::vector<double>{1, 0, 0, 0, 1, 0, 0, 0, 0.5});
+  write_bytes(dir.file("g.obj"), "v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 0 0 0.5\nf 1 2 3\n");
+  REQUIRE(read_mesh(dir.file("g.obj")).colors.empty());
+  write_bytes(dir.file("h.obj"), "v 0 0 0 1\nv 1 0 0 1\nv 0 1 0 1\nf 1 2 3\n");
+  REQUIRE(read_mesh(dir.file("h.obj")).colors.empty());
+}

@@ -1,5 +1,6 @@
 // Drives the built `meshlift` executable: exit codes, one-line messages, files left untouched.
 #include <catch2/catch.hpp>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -267,4 +268,93 @@ TEST_CASE("encode's default scheme is the wavelet that predicts the mesh best", 
     CHECK_THAT(encoded.output, Catch::Contains("auto: " + scheme + " ->"));
     CHECK_THAT(run("info " + mlz).output, Catch::Contains("wavelet:      " + scheme));
   }
+}
+
+namespace {
+
+/// A smooth colour of a point, as bytes.
+std::array<int, 3> colour_of(const double* p) {
+  std::array<int, 3> c{};
+  for (int k = 0; k < 3; ++k) c[static_cast<std::size_t>(k)] = static_cast<int>(std::lround(127.5 + 127.5 * std::sin(3 * p[k] + k)));
+  return c;
+}
+
+/// The vertices of an ascii PLY that meshlift wrote with colours: x y z r g b per line.
+std::vector<std::array<double, 6>> read_coloured_ply(const std::string& path) {
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::size_t vertices = 0;
+  bool coloured = false;
+  while (std::getline(in, line) && line != "end_header") {
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
+    coloured |= line == "property uchar red";
+  }
+  std::vector<std::array<double, 6>> out;
+  if (!coloured) return out;
+  for (std::size_t v = 0; v < vertices; ++v) {
+    std::array<double, 6> row{};
+    for (double& x : row) in >> x;
+    out.push_back(row);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("vertex colours go through encode, decode, stream and remesh", "[cli][codec][colour]") {
+  const fs::path dir = scratch();
+  const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
+  const std::string fine = (dir / "tet4.off").string();
+  REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme loop --levels 4").exit_code == 0);
+  // The same mesh with a colour per vertex (COFF, bytes).
+  const OffFile off = read_off(fine);
+  std::ostringstream coff;
+  coff.precision(9);
+  coff << "COFF\n" << off.positions.size() / 3 << " " << off.faces.size() << " 0\n";
+  for (std::size_t v = 0; v < off.positions.size() / 3; ++v) {
+    const std::array<int, 3> c = colour_of(&off.positions[3 * v]);
+    coff << off.positions[3 * v] << " " << off.positions[3 * v + 1] << " " << off.positions[3 * v + 2] << " " << c[0] << " "
+         << c[1] << " " << c[2] << " 255\n";
+  }
+  for (const auto& face : off.faces) coff << "3 " << face[0] << " " << face[1] << " " << face[2] << "\n";
+  const fs::path coloured = write_file(dir / "tet4c.off", coff.str());
+  const std::string mlz = (dir / "c.mlz").string();
+  REQUIRE(run("encode " + coloured.string() + " -o " + mlz).exit_code == 0);
+  CHECK_THAT(run("info " + mlz).output, Catch::Contains("the vertices' colour"));
+  // Whole, every vertex's colour comes back within a byte of its own (the channel's step is
+  // 2^-9 of each component's range); a prefix carries colours too, further off.
+  double whole_error = 0, prefix_error = 0;
+  for (const bool whole : {true, false}) {
+    const std::string out = (dir / (whole ? "whole.ply" : "prefix.ply")).string();
+    REQUIRE(run("decode " + mlz + " -o " + out + (whole ? "" : " --bytes " + std::to_string(fs::file_size(mlz) / 3))).exit_code == 0);
+    const auto rows = read_coloured_ply(out);
+    REQUIRE(rows.size() == off.positions.size() / 3);
+    double sum = 0, worst = 0;
+    for (const auto& row : rows) {
+      const std::array<int, 3> expected = colour_of(row.data());
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double d = std::abs(row[3 + k] - expected[k]);
+        sum += d;
+        worst = std::max(worst, d);
+      }
+    }
+    (whole ? whole_error : prefix_error) = sum / static_cast<double>(3 * rows.size());
+    // (colour_of the decoded position, which differs from the input's in its last bits: a byte
+    // rounded the other way at most.)
+    if (whole) CHECK(worst <= 1.0);
+  }
+  CHECK(whole_error < 0.25);
+  CHECK(prefix_error > whole_error);
+  // The file without colours is smaller and decodes without them.
+  REQUIRE(run("encode " + fine + " -o " + (dir / "plain.mlz").string()).exit_code == 0);
+  CHECK(fs::file_size(dir / "plain.mlz") < fs::file_size(mlz));
+  REQUIRE(run("decode " + (dir / "plain.mlz").string() + " -o " + (dir / "plain.ply").string()).exit_code == 0);
+  CHECK(read_coloured_ply((dir / "plain.ply").string()).empty());
+  // A viewer's frames and a remesh written out have them too.
+  REQUIRE(run("stream " + mlz + " --every 2000 -o " + (dir / "frames").string()).exit_code == 0);
+  for (const auto& frame : fs::directory_iterator(dir / "frames"))
+    CHECK_THAT(read_file(frame.path()), Catch::Contains("property uchar red"));
+  REQUIRE(run("remesh " + coloured.string() + " -o " + (dir / "remesh.ply").string()).exit_code == 0);
+  CHECK(read_coloured_ply((dir / "remesh.ply").string()).size() == off.positions.size() / 3);
+  fs::remove_all(dir);
 }

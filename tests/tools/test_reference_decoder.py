@@ -8,7 +8,8 @@
 meshes with boundaries (a 5 x 5 grid whose interior vertices have valence 4 and 7, an open fan of
 four triangles), their finer vertices moved pseudo-randomly: butterfly with the
 mean-preserving update in local frames, Loop in x, y, z, linear without the update (`--no-update`:
-the update is the default) in local frames.
+the update is the default) in local frames, and the grid again with a colour per vertex (a COFF
+input: a channel marked as the colour, FORMAT.md §3, whose bytes must agree within 1).
 For each stream, and for prefixes of it (`--cuts=N`: N raw byte cuts spread over the file;
 `--every-byte`: all of them; `--truncate`: also the files `meshlift truncate` rewrites from those
 cuts; `--damage`: damaged copies, each chunk's checksum made right again where the damage is
@@ -62,17 +63,23 @@ def version_problems(path, data):
                              % (path, version, reference_decoder.FORMAT_VERSION)]
 
 
-def read_off(path):
+def read_off(path, colours=None):
+    """OFF or COFF (then `colours`, if a list, receives each vertex's bytes)."""
     with open(path) as f:
         tokens = f.read().split()
-    if tokens[0] != 'OFF':
+    if tokens[0] not in ('OFF', 'COFF'):
         raise ValueError('%s: not OFF' % path)
+    coloured = tokens[0] == 'COFF'
     V, F = int(tokens[1]), int(tokens[2])
     i = 4
     positions = []
     for _ in range(V):
         positions.append((float(tokens[i]), float(tokens[i + 1]), float(tokens[i + 2])))
         i += 3
+        if coloured:
+            if colours is not None:
+                colours.append(tuple(int(t) for t in tokens[i:i + 3]))
+            i += 3
     faces = []
     for _ in range(F):
         if tokens[i] != '3':
@@ -83,7 +90,8 @@ def read_off(path):
 
 
 def cpp_decode(meshlift, path, workdir, max_bytes=None):
-    """Returns ('ok', positions, faces) or (status, None, None)."""
+    """Returns ('ok', positions, faces, colours) or (status, None, None, None); colours are the
+    bytes `meshlift decode` wrote (COFF), or []."""
     out = os.path.join(workdir, 'cpp.off')
     command = [meshlift, 'decode', path, '-o', out]
     if max_bytes is not None:
@@ -92,24 +100,28 @@ def cpp_decode(meshlift, path, workdir, max_bytes=None):
     if run.returncode != 0:
         match = STATUS_PATTERN.search(run.stderr)
         return (match.group(1) if match else 'exit %d: %s' % (run.returncode, run.stderr.strip()),
-                None, None)
-    positions, faces = read_off(out)
+                None, None, None)
+    colours = []
+    positions, faces = read_off(out, colours)
     os.remove(out)
-    return 'ok', positions, faces
+    return 'ok', positions, faces, colours
 
 
 def reference_decode(data):
+    """As cpp_decode, the colours as the bytes FORMAT.md §3 says a file stores, round(255 c)."""
+    colours = []
     try:
-        positions, faces = reference_decoder.decode(data)
+        positions, faces = reference_decoder.decode(data, colours=colours)
     except reference_decoder.DecodeError as error:
-        return error.status, None, None
-    return 'ok', positions, faces
+        return error.status, None, None, None
+    return 'ok', positions, faces, [tuple(int(math.floor(255 * min(1.0, max(0.0, x)) + 0.5)) for x in c)
+                                    for c in colours]
 
 
 def compare(expected, actual):
     """Returns (problem or None, largest position difference)."""
-    status_c, pos_c, faces_c = expected
-    status_r, pos_r, faces_r = actual
+    status_c, pos_c, faces_c, colours_c = expected
+    status_r, pos_r, faces_r, colours_r = actual
     if status_c != status_r:
         return 'status: C++ %s, reference %s' % (status_c, status_r), 0.0
     if status_c != 'ok':
@@ -126,6 +138,12 @@ def compare(expected, actual):
             largest = max(largest, difference)
             if difference > 2.0 ** -23 * abs(x) + 1e-12 * scale:
                 return 'vertex %d: C++ %r, reference %r' % (v, p, q), largest
+    # Colours as bytes: a value the two sum in different orders may round the other way at .5.
+    if len(colours_c) != len(colours_r):
+        return 'colours: C++ %d, reference %d' % (len(colours_c), len(colours_r)), largest
+    for v, (p, q) in enumerate(zip(colours_c, colours_r)):
+        if any(abs(x - y) > 1 for x, y in zip(p, q)):
+            return 'vertex %d colour: C++ %r, reference %r' % (v, p, q), largest
     return None, largest
 
 
@@ -178,11 +196,12 @@ def damaged_copies(data):
     ]
 
 
-def write_off(path, positions, faces):
+def write_off(path, positions, faces, colours=None):
     with open(path, 'w') as out:
-        out.write('OFF\n%d %d 0\n' % (len(positions), len(faces)))
-        for p in positions:
-            out.write('%r %r %r\n' % tuple(p))
+        out.write('%s\n%d %d 0\n' % ('COFF' if colours else 'OFF', len(positions), len(faces)))
+        for v, p in enumerate(positions):
+            out.write('%r %r %r' % tuple(p))
+            out.write(' %d %d %d 255\n' % colours[v] if colours else '\n')
         for f in faces:
             out.write('3 %d %d %d\n' % tuple(f))
 
@@ -207,7 +226,8 @@ def generate_streams(meshlift, workdir):
     for (name, positions, faces, scheme, options) in (
             ('grid', grid, grid_faces, 'butterfly', ['--update', '--frames', 'local']),
             ('grid', grid, grid_faces, 'loop', ['--frames', 'xyz']),
-            ('fan', fan, fan_faces, 'linear', ['--no-update', '--frames', 'local'])):
+            ('fan', fan, fan_faces, 'linear', ['--no-update', '--frames', 'local']),
+            ('coloured_grid', grid, grid_faces, 'butterfly', ['--update', '--frames', 'local'])):
         base = os.path.join(workdir, name + '.off')
         fine = os.path.join(workdir, name + '_fine.off')
         write_off(base, positions, faces)
@@ -223,7 +243,10 @@ def generate_streams(meshlift, workdir):
                     offsets.append((seed / 2 ** 31 - 0.5) * 0.04)
                 p = tuple(x + o for x, o in zip(p, offsets))
             moved.append(p)
-        write_off(fine, moved, fine_faces)
+        # The coloured grid: a colour per vertex (bytes, COFF), a channel marked as the colour.
+        colours = ([tuple((v * 37 + 80 * k) % 256 for k in range(3)) for v in range(len(moved))]
+                   if name.startswith('coloured') else None)
+        write_off(fine, moved, fine_faces, colours)
         stream = os.path.join(workdir, '%s_%s.mlz' % (name, scheme))
         subprocess.run([meshlift, 'encode', fine, '-o', stream, '--scheme', scheme, '--bits',
                         '14'] + options, check=True, capture_output=True)

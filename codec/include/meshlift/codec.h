@@ -187,6 +187,7 @@ struct StreamInfo {
   bool local_frames = false;
   int tangent_shift = 0;
   std::vector<ChannelQuantization> channels;
+  bool colour = false;  ///< the first channel is the vertices' colour (FORMAT.md §3, flag bit 3)
   struct Chunk {
     std::string tag;
     std::size_t offset = 0, size = 0;

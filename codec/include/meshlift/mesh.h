@@ -29,6 +29,9 @@ struct PolygonMesh {
   std::vector<double> positions;
   std::vector<std::uint32_t> face_offsets{0};
   std::vector<std::uint32_t> face_indices;
+  /// Per-vertex colours, if the file had them: red, green, blue of each vertex in [0, 1]
+  /// (3 per vertex), else empty.
+  std::vector<double> colors;
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }

@@ -103,6 +103,9 @@ class SemiRegularHierarchy {
 struct VertexChannel {
   int components = 1;
   std::vector<double> values;
+  /// The vertices' colour: red, green, blue in [0, 1] (3 components; the first channel only).
+  /// A stream marks it (FORMAT.md §3, flag bit 3), so that a decoder knows what the values are.
+  bool colour = false;
 };
 
 /// A semi-regular mesh: hierarchy plus positions of the finest level (xyz, ordered by level),

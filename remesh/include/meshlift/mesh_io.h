@@ -3,6 +3,7 @@
 #pragma once
 
 #include <stdexcept>
+#include <span>
 #include <string>
 
 #include "meshlift/mesh.h"
@@ -42,15 +43,20 @@ PolygonMesh read_mesh(const std::string& path);
 /// Written straight from the arrays, faces as given (non-manifold ones too). Coordinates are
 /// stored as 32-bit floats (PLY's `property float`, binary STL's), in the ascii formats as the
 /// shortest digits that read back to the same float. PLY face lists count corners in a uchar,
-/// or an int where a face has more than 255; STL gets each triangle's unit normal.
+/// or an int where a face has more than 255; STL gets each triangle's unit normal. Vertex colours
+/// (PolygonMesh::colors, if any) are stored as bytes, round(255 c): PLY `uchar red, green, blue`,
+/// OFF as `COFF` with 0-255 integers, OBJ as `v x y z r g b` with r = byte / 255; STL has none.
 ///
 /// \pre   face_offsets is consistent and every index names an existing vertex.
 /// \throw MeshIOError if the extension is unknown, the mesh breaks the precondition, a face has
 ///        fewer than 3 corners or repeats one, a coordinate is outside the float range, STL is
-///        asked to store a non-triangle face, or the file cannot be written or renamed.
+///        asked to store a non-triangle face, colours are not 3 per vertex, or the file cannot be
+///        written or renamed.
 void write_mesh(const std::string& path, const PolygonMesh& mesh, bool binary = false);
 
-/// Same as the PolygonMesh overload, for a triangle mesh.
-void write_mesh(const std::string& path, const TriangleMesh& mesh, bool binary = false);
+/// The same for a triangle mesh, with `colors` (red, green, blue per vertex in [0, 1], or empty)
+/// as write_mesh(PolygonMesh) writes PolygonMesh::colors.
+void write_mesh(const std::string& path, const TriangleMesh& mesh, bool binary = false,
+                std::span<const double> colors = {});
 
 }  // namespace meshlift
