@@ -38,11 +38,15 @@ PolygonMesh read_obj(const std::string& path, std::string_view text) {
       }
       // `v x y z r g b`: a vertex colour (decimals 0-1, as MeshLab writes it); kept where every
       // vertex has one. Anything else after the coordinates (w) is ignored.
-      std::optional<double> rgb[3];
-      for (auto& c : rgb) c = file_text::parse_decimal<double>(word());
-      const bool coloured = rgb[0] && rgb[1] && rgb[2] && word().empty();
-      every_vertex_coloured &= coloured;
-      for (const auto& c : rgb) mesh.colors.push_back(coloured ? std::clamp(*c, 0.0, 1.0) : 0.0);
+      if (every_vertex_coloured) {
+        std::optional<double> rgb[3];
+        for (auto& c : rgb) c = file_text::parse_decimal<double>(word());
+        every_vertex_coloured = rgb[0] && rgb[1] && rgb[2] && word().empty();
+        if (every_vertex_coloured)
+          for (const auto& c : rgb) mesh.colors.push_back(std::clamp(*c, 0.0, 1.0));
+        else
+          mesh.colors = {};  // one vertex without: none kept (and none read from here on)
+      }
     } else if (keyword == "f") {
       const std::size_t first = mesh.face_indices.size();
       const auto vertices = static_cast<std::int64_t>(mesh.vertex_count());
