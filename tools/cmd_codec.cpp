@@ -88,16 +88,15 @@ Scheme least_energy_scheme(const SemiRegularMesh& mesh, bool mean_preserving_upd
 struct EncodeArgs {
   std::string input, output, scheme = "auto";
   int bits = 16;
+  /// The colour channel's precision: a step of 2^-9 of each component's range (at most 1/512) by
+  /// default, so that a colour read from bytes and decoded whole rounds back to the same byte (an
+  /// error of at most 1/1024 of the range is a quarter of a byte step).
+  int colour_bits = 9;
   FrameArgs frames;
   RemeshCliOptions remesh;
   double bpv = 0, psnr = 0;
   std::size_t bytes = 0;
 };
-
-/// The colour channel's precision: a step of 2^-9 of each component's range (at most 1/512), so
-/// that a colour read from bytes and decoded whole rounds back to the same byte (an error of at
-/// most 1/1024 of the range is a quarter of a byte step).
-constexpr int kColourBits = 9;
 
 int run_encode(const EncodeArgs& a) {
   if (!check_distinct_output(a.input, a.output)) return kOutputError;
@@ -125,7 +124,7 @@ int run_encode(const EncodeArgs& a) {
     std::optional<std::vector<double>> at = colours_at(a.input, *colours, mesh->positions);
     if (!at) return kBadInput;
     mesh->channels.insert(mesh->channels.begin(), VertexChannel{3, std::move(*at), true});
-    options.channel_precision_bits = kColourBits;
+    options.channel_precision_bits = a.colour_bits;
   }
   options.scheme = a.scheme == "auto" ? least_energy_scheme(*mesh, a.frames.update) : parse_scheme(a.scheme);
   options.precision_bits = a.bits;
@@ -360,6 +359,11 @@ void register_encode(CLI::App& app, int& exit_code) {
   add_remesh_options(*cmd, a->remesh, "--remesh");
   cmd->add_option("--bits", a->bits, "precision of the finest bit plane: step = diagonal * 2^-bits")
       ->check(CLI::Range(1, 40));
+  cmd->add_option("--colour-bits", a->colour_bits,
+                  "an input with vertex colours: their step, 2^-B of each component's range (9: a byte decoded whole "
+                  "comes back the same byte; fewer: smaller files, coarser colours)")
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
   add_frame_options(*cmd, a->frames);
   auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")
                   ->check(CLI::PositiveNumber);
