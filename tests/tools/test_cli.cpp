@@ -345,6 +345,11 @@ TEST_CASE("vertex colours go through encode, decode, stream and remesh", "[cli][
   }
   CHECK(whole_error < 0.25);
   CHECK(prefix_error > whole_error);
+  // Coarser colours (--colour-bits 6): a smaller file; 0 bits is refused as a bad argument.
+  const std::string coarse = (dir / "c6.mlz").string();
+  REQUIRE(run("encode " + coloured.string() + " -o " + coarse + " --colour-bits 6").exit_code == 0);
+  CHECK(fs::file_size(coarse) < fs::file_size(mlz));
+  CHECK(run("encode " + coloured.string() + " -o " + coarse + " --colour-bits 0").exit_code == 2);
   // The file without colours is smaller and decodes without them.
   REQUIRE(run("encode " + fine + " -o " + (dir / "plain.mlz").string()).exit_code == 0);
   CHECK(fs::file_size(dir / "plain.mlz") < fs::file_size(mlz));
