@@ -368,6 +368,16 @@ def main(argv):
     md += ["Plots per mesh: " + ", ".join("`rd/%s`" % os.path.basename(p)
                                           for p in sorted(glob.glob(os.path.join(out, "rd", "rd_*.png")))), ""]
 
+    sizes = os.path.join(out, "colour", "sizes.txt")
+    if os.path.exists(sizes):
+        plain, coloured, vertices, prefix = (int(x) for x in read_text(sizes).split())
+        md += ["## Vertex colours", "",
+               "Camel coloured by a smooth field (`tools/colour_mesh.py`), encoded from the coloured PLY: the "
+               "colours are read off the input at each remesh vertex and coded as a channel marked as the colour "
+               "(docs/RESULTS.md, \"Vertex colours\"). %d bytes without them, %d with them: %.1f bits per input "
+               "vertex for the colours. Decoded whole and from its first %d bytes (4 bits per input vertex), with "
+               "their colours: `colour/camel_decoded_whole.ply`, `colour/camel_decoded_4bpv.ply` (MeshLab and "
+               "most viewers show them)." % (plain, coloured, 8.0 * (coloured - plain) / vertices, prefix), ""]
     md += ["## Validation of the development corpus (`meshlift info`)", ""]
     rows = []
     for path in sorted(glob.glob(os.path.join(out, "info", "*.json"))):
