@@ -190,7 +190,8 @@ open(sys.argv[2], "wb").write(b"P6\n%d %d\n255\n" % (a.shape[1], a.shape[0]) + n
 }
 
 # Vertex colours: camel coloured by a smooth field (tools/colour_mesh.py), encoded with and
-# without its colours, decoded whole and from a 4 bpv prefix: PLY files with their colours.
+# without its colours, decoded from 1 and 2 bpv prefixes and whole: PLY files with their colours,
+# rendered side by side with the coloured input.
 colours() {
   local c="$out/colour"
   mkdir -p "$c"
@@ -199,11 +200,18 @@ colours() {
   $py tools/colour_mesh.py "$corpus/camel.off" "$c/camel_plain.ply" none
   run "$c/colour.log" encode "$c/camel_coloured.ply" -o "$c/camel_coloured.mlz"
   run "$c/colour.log" encode "$c/camel_plain.ply" -o "$c/camel_plain.mlz"
-  local bytes=$(( 4 * $(input_vertices camel) / 8 ))
+  local vertices
+  vertices=$(input_vertices camel)
+  for bpv in 1 2; do
+    run "$c/colour.log" decode "$c/camel_coloured.mlz" --bytes $(( bpv * vertices / 8 )) -o "$c/camel_decoded_${bpv}bpv.ply" --binary
+  done
   run "$c/colour.log" decode "$c/camel_coloured.mlz" -o "$c/camel_decoded_whole.ply" --binary
-  run "$c/colour.log" decode "$c/camel_coloured.mlz" --bytes "$bytes" -o "$c/camel_decoded_4bpv.ply" --binary
-  echo "$(file_size "$c/camel_plain.mlz") $(file_size "$c/camel_coloured.mlz") $(input_vertices camel) $bytes" >"$c/sizes.txt"
+  echo "$(file_size "$c/camel_plain.mlz") $(file_size "$c/camel_coloured.mlz") $vertices" >"$c/sizes.txt"
   echo "   $(file_size "$c/camel_plain.mlz") bytes without the colours, $(file_size "$c/camel_coloured.mlz") with them"
+  $py tools/render.py strip "$c/camel_coloured.ply" "$c/camel_decoded_1bpv.ply" "$c/camel_decoded_2bpv.ply" \
+    "$c/camel_decoded_whole.ply" --view 90,10 --size 300,300 \
+    --title "camel's vertex colours: the input, decoded from 1 and 2 bits per input vertex, decoded whole" \
+    -o "$out/colour_strip.png"
 }
 
 report() {

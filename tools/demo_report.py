@@ -370,14 +370,15 @@ def main(argv):
 
     sizes = os.path.join(out, "colour", "sizes.txt")
     if os.path.exists(sizes):
-        plain, coloured, vertices, prefix = (int(x) for x in read_text(sizes).split())
+        plain, coloured, vertices = (int(x) for x in read_text(sizes).split())
         md += ["## Vertex colours", "",
                "Camel coloured by a smooth field (`tools/colour_mesh.py`), encoded from the coloured PLY: the "
                "colours are read off the input at each remesh vertex and coded as a channel marked as the colour "
                "(docs/RESULTS.md, \"Vertex colours\"). %d bytes without them, %d with them: %.1f bits per input "
-               "vertex for the colours. Decoded whole and from its first %d bytes (4 bits per input vertex), with "
-               "their colours: `colour/camel_decoded_whole.ply`, `colour/camel_decoded_4bpv.ply` (MeshLab and "
-               "most viewers show them)." % (plain, coloured, 8.0 * (coloured - plain) / vertices, prefix), ""]
+               "vertex for the colours. Decoded from 1 and 2 bits per input vertex and whole, with their colours "
+               "(`colour/camel_decoded_*.ply`; MeshLab and most viewers show them):"
+               % (plain, coloured, 8.0 * (coloured - plain) / vertices), "",
+               "![camel's colours streamed](colour_strip.png)", ""]
     md += ["## Validation of the development corpus (`meshlift info`)", ""]
     rows = []
     for path in sorted(glob.glob(os.path.join(out, "info", "*.json"))):

@@ -44,13 +44,16 @@ class MeshReadError(Exception):
 
 
 # ---------------------------------------------------------------------------------------------
-# Readers: each returns (positions, triangles, polygon_edges), checked into a Mesh by read_mesh.
+# Readers: each returns (positions, triangles, polygon_edges) (PLY also its colours or None),
+# checked into a Mesh by read_mesh.
 # ---------------------------------------------------------------------------------------------
 
-class Mesh(collections.namedtuple("Mesh", "positions triangles polygon_edges")):
+class Mesh(collections.namedtuple("Mesh", "positions triangles polygon_edges colours", defaults=(None,))):
     """positions (n, 3) float64; triangles (m, 3) int64; polygon_edges (m, 3) bool: whether the
     edge opposite corner i of a triangle is an edge of the polygon it was cut from (the wireframe
-    draws those only, not the diagonals of fanned polygons)."""
+    draws those only, not the diagonals of fanned polygons); colours (n, 3) in [0, 1], the
+    vertices' red, green, blue where a PLY file has them (as `meshlift decode` writes them), else
+    None."""
 
 
 def fan(k):
@@ -74,7 +77,7 @@ def all_edges(triangles):
     return np.ones(triangles.shape, dtype=bool)
 
 
-def check_mesh(path, positions, triangles, edges):
+def check_mesh(path, positions, triangles, edges, colours=None):
     if positions.shape[0] == 0:
         raise MeshReadError("%s: the mesh has no vertices" % path)
     if triangles.shape[0] == 0:
@@ -84,7 +87,7 @@ def check_mesh(path, positions, triangles, edges):
         raise MeshReadError("%s: face %d refers to a vertex outside 0..%d" % (path, bad, positions.shape[0] - 1))
     if not np.isfinite(positions).all():
         raise MeshReadError("%s: non-finite vertex coordinates" % path)
-    return Mesh(positions, triangles, edges)
+    return Mesh(positions, triangles, edges, colours)
 
 
 def read_obj(path, text):
@@ -197,7 +200,7 @@ def read_ply(path, data):
     if "vertex" not in values:
         raise MeshReadError("%s: no vertex element with x, y, z" % path)
     triangles, edges = values.get("face", (np.zeros((0, 3), dtype=np.int64), np.zeros((0, 3), dtype=bool)))
-    return values["vertex"], triangles, edges
+    return values["vertex"], triangles, edges, values.get("colour")
 
 
 def _ply_keep(name, properties, columns, polygons, values, path):
@@ -207,6 +210,12 @@ def _ply_keep(name, properties, columns, polygons, values, path):
         if not all(axis in names for axis in "xyz"):
             raise MeshReadError("%s: the vertex element has no x, y, z properties" % path)
         values["vertex"] = np.stack([columns[names.index(axis)] for axis in "xyz"], axis=1).astype(np.float64)
+        # Vertex colours: red, green, blue, an integer type over its largest value (uchar: 255).
+        if all(c in names for c in ("red", "green", "blue")):
+            types = [properties[names.index(c)][1] for c in ("red", "green", "blue")]
+            largest = [float(np.iinfo(t).max) if np.dtype(t).kind in "iu" else 1.0 for t in types]
+            values["colour"] = np.clip(np.stack([columns[names.index(c)] / m for c, m in
+                                                 zip(("red", "green", "blue"), largest)], axis=1), 0, 1)
     elif name == "face" and polygons is not None:
         values["face"] = polygons
 
@@ -538,8 +547,11 @@ def corner_normals(positions, triangles, normals_of_faces, crease_degrees=40.0):
 
 
 def render(positions, triangles, camera, wire=False, flat=False, transparent=False, supersample=2,
-           polygon_edges=None, crease_degrees=40.0):
+           polygon_edges=None, crease_degrees=40.0, colours=None):
     """RGBA image (height, width, 4) in [0, 1] of the mesh seen by camera.
+
+    The albedo is a light grey-blue, or with `colours` ((n, 3) in [0, 1] per vertex) the vertices'
+    colours interpolated with the perspective-correct barycentrics below.
 
     Shading (two-sided: a normal facing away from the eye is flipped): ambient + Lambert from a key
     and a fill light set relative to the camera, plus Blinn-Phong specular from the key light,
@@ -591,7 +603,8 @@ def render(positions, triangles, camera, wire=False, flat=False, transparent=Fal
         half /= np.maximum(np.linalg.norm(half, axis=1, keepdims=True), 1e-300)
         diffuse = 0.18 + 0.72 * np.maximum(normal @ key, 0) + 0.22 * np.maximum(normal @ fill, 0)
         specular = 0.18 * np.maximum((normal * half).sum(axis=1), 0) ** 40
-        colour = np.clip(ALBEDO * diffuse[:, None] + specular[:, None], 0, 1)
+        albedo = ALBEDO if colours is None else np.einsum("pi,pij->pj", perspective, colours[corners])
+        colour = np.clip(albedo * diffuse[:, None] + specular[:, None], 0, 1)
         if wire:
             lengths = np.stack([np.hypot(cu[:, k] - cu[:, j], cv[:, k] - cv[:, j])
                                 for j, k in ((1, 2), (2, 0), (0, 1))], axis=1)
@@ -755,14 +768,14 @@ def main(argv):
             meshes = [read_mesh(p) for p in paths]
             camera = make_camera(meshes[-1].positions, width, height, *args.view, up_axis=args.up)
             images = [render(m.positions, m.triangles, camera, args.wire, args.flat, args.transparent, args.supersample,
-                             m.polygon_edges, args.crease) for m in meshes]
+                             m.polygon_edges, args.crease, m.colours) for m in meshes]
             captions = [caption(path, m.positions, rows) for path, m in zip(paths, meshes)]
         else:
             mesh = read_mesh(args.mesh)
             reference = read_mesh(args.reference).positions if args.reference else mesh.positions
             camera = make_camera(reference, width, height, *args.view, up_axis=args.up)
             image = render(mesh.positions, mesh.triangles, camera, args.wire, args.flat, args.transparent,
-                           args.supersample, mesh.polygon_edges, args.crease)
+                           args.supersample, mesh.polygon_edges, args.crease, mesh.colours)
     except MeshReadError as error:
         print("render.py: %s" % error, file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -225,9 +225,10 @@ class ReaderTest(unittest.TestCase):
                                        "4 0 1 2 3 255 0 0\n3 0 1 4\n"))
 
     def test_off_with_triangles_only(self):
-        positions, triangles, _ = render.read_mesh(self.write("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 2 1 0\n"))
-        np.testing.assert_array_equal(triangles, [[2, 1, 0]])
-        self.assertEqual(positions.shape, (3, 3))
+        mesh = render.read_mesh(self.write("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 2 1 0\n"))
+        np.testing.assert_array_equal(mesh.triangles, [[2, 1, 0]])
+        self.assertEqual(mesh.positions.shape, (3, 3))
+        self.assertIsNone(mesh.colours)
 
     def ply_header(self, fmt, extra_vertex_property=True):
         return ("ply\nformat %s 1.0\ncomment test\nelement vertex 5\nproperty float x\nproperty float y\n"
@@ -244,6 +245,24 @@ class ReaderTest(unittest.TestCase):
             body += struct.pack(order + "B%di" % len(face), len(face), *face)
         fmt = "binary_little_endian" if order == "<" else "binary_big_endian"
         return self.ply_header(fmt).encode() + body
+
+    def test_ply_vertex_colours_are_read_and_rendered(self):
+        # uchar red, green, blue as meshlift decode writes them: a red, a green and a blue corner.
+        header = ("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+                  "element face 1\nproperty list uchar int vertex_indices\nend_header\n")
+        body = b"".join(struct.pack("<fffBBB", *p) for p in ((0, 0, 0, 255, 0, 0), (1, 0, 0, 0, 255, 0),
+                                                             (0, 1, 0, 0, 0, 255)))
+        mesh = render.read_mesh(self.write("c.ply", header.encode() + body + struct.pack("<B3i", 3, 0, 1, 2)))
+        np.testing.assert_array_equal(mesh.colours, np.eye(3))
+        camera = render.make_camera(mesh.positions, 60, 60, 0, 0)
+        image = render.render(mesh.positions, mesh.triangles, camera, supersample=1, transparent=True, colours=mesh.colours)
+        # Near each corner the pixels take that corner's colour; without colours they are grey-blue.
+        covered = image[..., 3] > 0
+        dominant = np.argmax(image[..., :3], axis=2)
+        self.assertEqual(set(np.unique(dominant[covered])), {0, 1, 2})
+        plain = render.render(mesh.positions, mesh.triangles, camera, supersample=1, transparent=True)
+        self.assertTrue((np.argmax(plain[..., :3], axis=2)[covered] == 2).all())
 
     def test_ply_binary_both_byte_orders_mixed_face_sizes(self):
         self.check(self.write("le.ply", self.binary_ply("<", [(0, 1, 2, 3), (0, 1, 4)])))
