@@ -1,10 +1,14 @@
 // `meshlift compare REF TEST [--samples N] [--threads T] [--json]`: Metro-style symmetric surface
-// distance of TEST from REF (metric.h, docs/METRIC.md).
+// distance of TEST from REF (metric.h, docs/METRIC.md), and where both have vertex colours, how far
+// TEST's are from REF's.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "json_text.h"
@@ -39,11 +43,22 @@ void print_json_side(const char* name, const OneSidedDistance& d, double diagona
             << ", \"vertex_samples\": " << d.vertex_samples << "}" << (last ? "\n" : ",\n");
 }
 
+/// How far a mesh's vertex colours are from a reference's: at each vertex, the reference's colour
+/// at its closest point on the reference (transfer.h) against its own, over all vertices and the
+/// three components; colours in [0, 1].
+struct ColourError {
+  double rms = 0, mean = 0, max = 0;
+  /// 20 log10(1 / rms): colours have a peak of 1.
+  double psnr_db() const { return 20 * std::log10(1 / rms); }
+};
+
 int run_compare(const CompareOptions& options) {
   std::optional<PolygonMesh> reference = load_mesh(options.reference);
   if (!reference) return kBadInput;
   std::optional<PolygonMesh> test = load_mesh(options.test);
   if (!test) return kBadInput;
+  const std::optional<InputColours> reference_colours = input_colours(*reference);
+  const std::vector<double> test_colours = test->colors;
   const TriangleMesh reference_triangles = triangles_of(options.reference, std::move(*reference));
   const TriangleMesh test_triangles = triangles_of(options.test, std::move(*test));
   if (reference_triangles.face_count() == 0) {
@@ -68,6 +83,21 @@ int run_compare(const CompareOptions& options) {
     return kBadInput;
   }
   if (!d.warning.empty()) std::cerr << "meshlift: warning: " << d.warning << "\n";
+  std::optional<ColourError> colour;
+  if (reference_colours && !test_colours.empty()) {
+    const std::optional<std::vector<double>> expected = colours_at(options.reference, *reference_colours, test_triangles.positions);
+    if (!expected) return kBadInput;
+    ColourError e;
+    for (std::size_t i = 0; i < test_colours.size(); ++i) {
+      const double difference = std::abs(test_colours[i] - (*expected)[i]);
+      e.rms += difference * difference;
+      e.mean += difference;
+      e.max = std::max(e.max, difference);
+    }
+    e.rms = std::sqrt(e.rms / static_cast<double>(test_colours.size()));
+    e.mean /= static_cast<double>(test_colours.size());
+    colour = e;
+  }
 
   if (options.json) {
     std::cout << "{\n  \"reference\": " << json_string(options.reference) << ",\n  \"test\": "
@@ -78,7 +108,11 @@ int run_compare(const CompareOptions& options) {
               << ",\n  \"hausdorff\": " << json_number(d.hausdorff) << ",\n  \"rms_relative\": "
               << json_number(d.rms_relative()) << ",\n  \"mean_relative\": " << json_number(d.mean_relative())
               << ",\n  \"hausdorff_relative\": " << json_number(d.hausdorff_relative())
-              << ",\n  \"psnr_db\": " << json_number(d.psnr_db()) << ",\n  \"warning\": " << json_string(d.warning) << "\n}\n";
+              << ",\n  \"psnr_db\": " << json_number(d.psnr_db());
+    if (colour)
+      std::cout << ",\n  \"colour\": {\"rms\": " << json_number(colour->rms) << ", \"mean\": " << json_number(colour->mean)
+                << ", \"max\": " << json_number(colour->max) << ", \"psnr_db\": " << json_number(colour->psnr_db()) << "}";
+    std::cout << ",\n  \"warning\": " << json_string(d.warning) << "\n}\n";
     return kOk;
   }
   std::printf("reference: %s (%zu vertices, %zu triangles), bounding-box diagonal %.6g\n", options.reference.c_str(),
@@ -97,6 +131,10 @@ int run_compare(const CompareOptions& options) {
   row("test -> reference", d.test_to_reference.rms, d.test_to_reference.mean, d.test_to_reference.max);
   row("symmetric (max)", d.rms, d.mean, d.hausdorff);
   std::printf("PSNR: %.3f dB (20 log10(diagonal / symmetric RMS))\n", d.psnr_db());
+  if (colour)
+    std::printf("colour: RMS %.3e, mean %.3e, max %.3e of the range (mean %.2f of 255), PSNR %.2f dB (the reference's "
+                "colour at each test vertex's closest point against the test's)\n",
+                colour->rms, colour->mean, colour->max, 255 * colour->mean, colour->psnr_db());
   return kOk;
 }
 

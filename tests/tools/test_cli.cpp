@@ -341,6 +341,13 @@ TEST_CASE("vertex colours go through encode, decode, stream and remesh", "[cli][
       }
     }
     (whole ? whole_error : prefix_error) = sum / static_cast<double>(3 * rows.size());
+    // compare measures the colours too: the input's at each decoded vertex against the decoded.
+    const auto compared = run("compare " + coloured.string() + " " + out + " --json");
+    REQUIRE(compared.exit_code == 0);
+    const std::size_t at = compared.output.find("\"colour\": {\"rms\": ");
+    REQUIRE(at != std::string::npos);
+    const std::size_t mean_at = compared.output.find("\"mean\": ", at);
+    CHECK(std::abs(255 * std::stod(compared.output.substr(mean_at + 8)) - sum / static_cast<double>(3 * rows.size())) < 0.5);
     // (colour_of the decoded position, which differs from the input's in its last bits: a byte
     // rounded the other way at most.)
     if (whole) CHECK(worst <= 1.0);
