@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include "commands.h"
@@ -94,14 +95,14 @@ std::optional<RemeshResult> remesh_for_cli(const std::string& path, const Triang
   }
 }
 
-void print_remesh_summary(const std::string& path, const TriangleMesh& input, const RemeshResult& result,
-                          double seconds) {
+double print_remesh_summary(const std::string& path, const TriangleMesh& input, const RemeshResult& result,
+                            double seconds) {
   const SemiRegularHierarchy& h = result.mesh.hierarchy;
   const double out = h.vertex_count(h.levels()), in = static_cast<double>(input.vertex_count());
   if (result.recognized) {
     std::fprintf(stderr, "%s: already semi-regular: %u base vertices, %d levels, taken over as it is\n", path.c_str(),
                  h.vertex_count(0), h.levels());
-    return;
+    return std::numeric_limits<double>::infinity();
   }
   std::fprintf(stderr, "%s: %.0f vertices -> %s remesh: base %zu, %d levels, %.0f vertices (%.2fx the input) in %.2f s\n",
                path.c_str(), in, result.method == RemeshMethod::sphere ? "sphere" : "decimation", result.base_vertices,
@@ -187,6 +188,7 @@ void print_remesh_summary(const std::string& path, const TriangleMesh& input, co
   const SurfaceDistance d = surface_distance(input, result.mesh.finest());
   std::fprintf(stderr, "%s: remesh error: PSNR %.2f dB, RMS %.3e and Hausdorff %.3e of the bounding-box diagonal\n",
                path.c_str(), d.psnr_db(), d.rms_relative(), d.hausdorff_relative());
+  return d.psnr_db();
 }
 
 }  // namespace meshlift::cli

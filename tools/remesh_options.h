@@ -33,8 +33,9 @@ RemeshOptions to_remesh_options(const RemeshCliOptions& options);
 std::optional<RemeshResult> remesh_for_cli(const std::string& path, const TriangleMesh& input,
                                            const RemeshCliOptions& options);
 
-/// Prints what the remesh did: vertex counts, levels, fold-overs, time (one line each).
-void print_remesh_summary(const std::string& path, const TriangleMesh& input, const RemeshResult& result,
-                          double seconds);
+/// Prints what the remesh did: vertex counts, levels, fold-overs, time (one line each); returns
+/// the remesh's PSNR against the input (metric.h), infinity for an input taken over as it is.
+double print_remesh_summary(const std::string& path, const TriangleMesh& input, const RemeshResult& result,
+                            double seconds);
 
 }  // namespace meshlift::cli

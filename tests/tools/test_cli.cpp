@@ -265,7 +265,8 @@ TEST_CASE("encode's default scheme is the wavelet that predicts the mesh best", 
     REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme " + scheme + " --levels 3").exit_code == 0);
     const auto encoded = run("encode " + fine + " -o " + mlz);
     REQUIRE(encoded.exit_code == 0);
-    CHECK_THAT(encoded.output, Catch::Contains("auto: " + scheme + " ->"));
+    // An input taken over as it is has no remesh error: the finest step stays 2^-16.
+    CHECK_THAT(encoded.output, Catch::Contains("auto: " + scheme + ", 16-bit precision ->"));
     CHECK_THAT(run("info " + mlz).output, Catch::Contains("wavelet:      " + scheme));
   }
 }
@@ -370,5 +371,46 @@ TEST_CASE("vertex colours go through encode, decode, stream and remesh", "[cli][
     CHECK_THAT(read_file(frame.path()), Catch::Contains("property uchar red"));
   REQUIRE(run("remesh " + coloured.string() + " -o " + (dir / "remesh.ply").string()).exit_code == 0);
   CHECK(read_coloured_ply((dir / "remesh.ply").string()).size() == off.positions.size() / 3);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("encode codes a remesh to 15 bits where its own error is far above that step", "[cli][codec]") {
+  const fs::path dir = scratch();
+  // A bumpy closed surface that is not semi-regular: the tetrahedron Loop-subdivided 5 times and
+  // displaced by ripples, then a vertex added inside a face (its face split in three), so that no
+  // hierarchy is found and it is remeshed by decimation.
+  const fs::path tet = write_file(dir / "tet.off", kTetrahedron);
+  const std::string fine = (dir / "fine.off").string();
+  REQUIRE(run("subdivide " + tet.string() + " -o " + fine + " --scheme loop --levels 5").exit_code == 0);
+  OffFile off = read_off(fine);
+  for (std::size_t i = 0; i < off.positions.size(); i += 3) {
+    const double x = off.positions[i], y = off.positions[i + 1], z = off.positions[i + 2];
+    const double ripple = 1 + 0.04 * std::sin(23 * x) * std::cos(19 * y) + 0.03 * std::sin(29 * z);
+    for (int k = 0; k < 3; ++k) off.positions[i + static_cast<std::size_t>(k)] = 0.25 + (off.positions[i + static_cast<std::size_t>(k)] - 0.25) * ripple;
+  }
+  const std::vector<int> face = off.faces.back();
+  off.faces.pop_back();
+  const int centre = static_cast<int>(off.positions.size() / 3);
+  for (int k = 0; k < 3; ++k)
+    off.positions.push_back((off.positions[3 * face[0] + k] + off.positions[3 * face[1] + k] + off.positions[3 * face[2] + k]) / 3);
+  for (int i = 0; i < 3; ++i) off.faces.push_back({face[i], face[(i + 1) % 3], centre});
+  std::ostringstream text;
+  text.precision(17);
+  text << "OFF\n" << off.positions.size() / 3 << " " << off.faces.size() << " 0\n";
+  for (std::size_t i = 0; i < off.positions.size(); i += 3)
+    text << off.positions[i] << " " << off.positions[i + 1] << " " << off.positions[i + 2] << "\n";
+  for (const auto& f : off.faces) text << "3 " << f[0] << " " << f[1] << " " << f[2] << "\n";
+  const fs::path input = write_file(dir / "split.off", text.str());
+  const auto encoded = run("encode " + input.string() + " -o " + (dir / "a.mlz").string());
+  REQUIRE(encoded.exit_code == 0);
+  REQUIRE_THAT(encoded.output, Catch::Contains("remesh error: PSNR"));
+  const std::string psnr = encoded.output.substr(encoded.output.find("remesh error: PSNR ") + 19);
+  REQUIRE(std::stod(psnr) < 85);  // a remesh farther than 85 dB from its input ...
+  CHECK_THAT(encoded.output, Catch::Contains("15-bit precision"));  // ... is coded to 2^-15 of the diagonal
+  // --bits overrides it.
+  const auto asked = run("encode " + input.string() + " -o " + (dir / "b.mlz").string() + " --bits 12");
+  REQUIRE(asked.exit_code == 0);
+  CHECK_THAT(asked.output, Catch::Contains("12-bit precision"));
+  CHECK(fs::file_size(dir / "b.mlz") < fs::file_size(dir / "a.mlz"));
   fs::remove_all(dir);
 }
