@@ -399,7 +399,12 @@ void read_body(const std::string& path, const Header& h, Body& body, PolygonMesh
           double value;
           if (!body.number(p.type, value)) ended(e, item);
           if (p.role == Role::x || p.role == Role::y || p.role == Role::z) xyz[static_cast<int>(p.role) - 1] = value;
-          if (p.role >= Role::red) rgb[static_cast<int>(p.role) - static_cast<int>(Role::red)] = colour_value(p.type, value);
+          if (p.role >= Role::red) {
+            // A binary float may hold NaN or an infinity (the ascii parser refuses them).
+            if (!std::isfinite(value))
+              fail(path, "PLY vertex " + std::to_string(item) + ": a colour component is NaN or infinite");
+            rgb[static_cast<int>(p.role) - static_cast<int>(Role::red)] = colour_value(p.type, value);
+          }
           continue;
         }
         std::int64_t count;
@@ -429,7 +434,7 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
   bool has_x = false, has_y = false, has_z = false;
   for (Element& e : h.elements) {
     bool corners = false;
-    int colour_channels = 0;
+    unsigned colour_seen = 0, colour_properties = 0;  // which of red, green, blue; how many properties
     for (Property& p : e.properties) {
       if (e.name == "vertex" && !p.count_type && (p.name == "x" || p.name == "y" || p.name == "z")) {
         p.role = p.name == "x" ? Role::x : p.name == "y" ? Role::y : Role::z;
@@ -440,7 +445,8 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
         const std::string_view n = std::string_view(p.name).substr(p.name.rfind("diffuse_", 0) == 0 ? 8 : 0);
         if (n == "red" || n == "green" || n == "blue") {
           p.role = n == "red" ? Role::red : n == "green" ? Role::green : Role::blue;
-          ++colour_channels;
+          colour_seen |= 1u << (static_cast<int>(p.role) - static_cast<int>(Role::red));
+          ++colour_properties;
         }
       }
       if (e.name == "face" && p.count_type && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
@@ -452,7 +458,7 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
     if (e.name == "face" && e.count > 0 && !corners)
       fail(path, "PLY face element has no 'vertex_indices' list");
     // Colours only where all three are there, once each: else read past.
-    if (colour_channels != 3)
+    if (colour_seen != 7 || colour_properties != 3)
       for (Property& p : e.properties)
         if (p.role >= Role::red) p.role = Role::skip;
   }
@@ -466,6 +472,8 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
     BinaryBody body(bytes.substr(h.body), h.big_endian);
     read_body(path, h, body, mesh);
   }
+  // Colours on one vertex element of several: not one per vertex, so none.
+  if (mesh.colors.size() != mesh.positions.size()) mesh.colors = {};
   return mesh;
 }
 

@@ -30,9 +30,10 @@ namespace meshlift {
 ///   `face`, whose list `vertex_indices` (or `vertex_index`) of integers are its corners, kept
 ///   as they are (a negative index becomes an out-of-range one, for read_mesh to report); and the
 ///   vertex colours, where element `vertex` has scalar properties `red`, `green` and `blue` (or
-///   `diffuse_red`, ...): an integer type's value over its largest (uchar 255), a float's as it
-///   is, each clamped to [0, 1] (PolygonMesh::colors). Every other element and property is read
-///   past.
+///   `diffuse_red`, ...), each once: an integer type's value over its largest (uchar 255), a
+///   float's as it is (NaN or an infinity is an error naming the vertex), each clamped to [0, 1]
+///   (PolygonMesh::colors); none where the file has several vertex elements and not all have
+///   them. Every other element and property is read past.
 /// - Before anything is reserved, each element's count is checked against the body's bytes (a
 ///   binary item takes its fixed part's bytes, an ascii item a byte per property, at least), and
 ///   each list's count against the bytes left: memory stays within a small multiple of the file

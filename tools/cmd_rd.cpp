@@ -474,8 +474,9 @@ void register_rd(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_remesh_options(*cmd, options->remesh, "--remesh");
   cmd->add_option("--bits", options->bits,
-                  "Finest quantization step diagonal*2^-B of the encodes (as `encode --bits`); the prefixes' "
-                  "highest rate")
+                  "Finest quantization step diagonal*2^-B of the encodes (`encode --bits`; its default is 15 for a "
+                  "remesh farther than 85 dB from its input, whose prefixes are those of 16 less the last plane); the "
+                  "prefixes' highest rate")
       ->capture_default_str();
   add_frame_options(*cmd, options->frames);
   cmd->add_flag("--separate", options->separate, "Also encode separately at each budget (the embedded stream's cost)");

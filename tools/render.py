@@ -210,12 +210,15 @@ def _ply_keep(name, properties, columns, polygons, values, path):
         if not all(axis in names for axis in "xyz"):
             raise MeshReadError("%s: the vertex element has no x, y, z properties" % path)
         values["vertex"] = np.stack([columns[names.index(axis)] for axis in "xyz"], axis=1).astype(np.float64)
-        # Vertex colours: red, green, blue, an integer type over its largest value (uchar: 255).
-        if all(c in names for c in ("red", "green", "blue")):
-            types = [properties[names.index(c)][1] for c in ("red", "green", "blue")]
-            largest = [float(np.iinfo(t).max) if np.dtype(t).kind in "iu" else 1.0 for t in types]
-            values["colour"] = np.clip(np.stack([columns[names.index(c)] / m for c, m in
-                                                 zip(("red", "green", "blue"), largest)], axis=1), 0, 1)
+        # Vertex colours: red, green, blue (or diffuse_red, ...), an integer type over its largest
+        # value (uchar: 255).
+        for rgb in (("red", "green", "blue"), ("diffuse_red", "diffuse_green", "diffuse_blue")):
+            if all(c in names for c in rgb):
+                types = [properties[names.index(c)][1] for c in rgb]
+                largest = [float(np.iinfo(t).max) if np.dtype(t).kind in "iu" else 1.0 for t in types]
+                values["colour"] = np.clip(np.stack([columns[names.index(c)] / m for c, m in zip(rgb, largest)],
+                                                    axis=1), 0, 1)
+                break
     elif name == "face" and polygons is not None:
         values["face"] = polygons
 

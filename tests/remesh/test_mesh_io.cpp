@@ -2,10 +2,12 @@
 // hostile input: missing files, unknown extensions, random and corrupted bytes.
 #include <catch2/catch.hpp>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sys/wait.h>
 #include <string>
@@ -367,6 +369,36 @@ TEST_CASE("colours in the forms other tools write them", "[mesh_io]") {
               "property uchar red\nproperty uchar green\nelement face 1\n"
               "property list uchar int vertex_indices\nend_header\n0 0 0 1 2\n1 0 0 3 4\n0 1 0 5 6\n" + triangle);
   REQUIRE(read_mesh(dir.file("c.ply")).colors.empty());
+  // A property named twice (red, red, green) is not three colours: none.
+  write_bytes(dir.file("twice.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property uchar red\nproperty uchar red\nproperty uchar green\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n0 0 0 1 2 3\n1 0 0 3 4 5\n0 1 0 5 6 7\n" + triangle);
+  REQUIRE(read_mesh(dir.file("twice.ply")).colors.empty());
+  // Two vertex elements, only the second with colours: not one per vertex, so none.
+  write_bytes(dir.file("two.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+              "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+              "property uchar green\nproperty uchar blue\nelement face 1\nproperty list uchar int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0 9 9 9\n" + triangle);
+  const PolygonMesh two = read_mesh(dir.file("two.ply"));
+  REQUIRE(two.vertex_count() == 3);
+  REQUIRE(two.colors.empty());
+  // A binary float colour that is NaN: refused, naming the vertex.
+  {
+    std::string bytes = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                        "property float z\nproperty float red\nproperty float green\nproperty float blue\n"
+                        "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 6; ++k) {
+        const float x = v == 1 && k == 3 ? std::numeric_limits<float>::quiet_NaN() : (k == v ? 1.0f : 0.0f);
+        bytes.append(reinterpret_cast<const char*>(&x), sizeof x);
+      }
+    bytes += '\3';
+    for (const std::int32_t c : {0, 1, 2}) bytes.append(reinterpret_cast<const char*>(&c), sizeof c);
+    write_bytes(dir.file("nan.ply"), bytes);
+    REQUIRE_THROWS_WITH(read_mesh(dir.file("nan.ply")), Catch::Contains("vertex 1: a colour component is NaN"));
+  }
   // OFF: integers are 0-255, decimals 0-1 (Geomview); a normal comes first; alpha is ignored.
   write_bytes(dir.file("d.off"), "CNOFF\n3 1 0\n0 0 0 0 0 1 255 0 51 255\n1 0 0 0 0 1 0.5 1 0\n0 1 0 0 0 1 0 0 0 1\n" + triangle);
   REQUIRE(read_mesh(dir.file("d.off")).colors == std::vector<double>{1, 0, 0.2, 0.5, 1, 0, 0, 0, 0});

@@ -407,7 +407,10 @@ TEST_CASE("encode codes a remesh to 15 bits where its own error is far above tha
   const std::string psnr = encoded.output.substr(encoded.output.find("remesh error: PSNR ") + 19);
   REQUIRE(std::stod(psnr) < 85);  // a remesh farther than 85 dB from its input ...
   CHECK_THAT(encoded.output, Catch::Contains("15-bit precision"));  // ... is coded to 2^-15 of the diagonal
-  // --bits overrides it.
+  // A --psnr target keeps 16 bits (the target is met within the stream); --bits overrides both.
+  const auto target = run("encode " + input.string() + " -o " + (dir / "p.mlz").string() + " --psnr 70");
+  REQUIRE(target.exit_code == 0);
+  CHECK_THAT(target.output, Catch::Contains("16-bit precision"));
   const auto asked = run("encode " + input.string() + " -o " + (dir / "b.mlz").string() + " --bits 12");
   REQUIRE(asked.exit_code == 0);
   CHECK_THAT(asked.output, Catch::Contains("12-bit precision"));
