@@ -117,6 +117,7 @@ bool has_nonzero_area_face(const TriangleMesh& mesh) {
 MeshReport validate_mesh(const PolygonMesh& mesh) {
   MeshReport r;
   r.vertices = mesh.positions.size() / 3;
+  r.vertex_colours = !mesh.colors.empty();
   r.structure_error = structure_error_of(mesh);
   if (!r.structure_error.empty()) return r;
 
@@ -479,6 +480,7 @@ std::string to_text(const MeshReport& r) {
   const auto yes_no = [](bool b) { return std::string(b ? "yes" : "no"); };
   if (!r.structure_error.empty()) line("structure error", r.structure_error);
   line("vertices", std::to_string(r.vertices));
+  if (r.vertex_colours) line("vertex colours", "red, green, blue (remesh and encode carry them)");
   line("faces", std::to_string(r.faces));
   line("edges", std::to_string(r.edges));
   line("euler characteristic", std::to_string(r.euler_characteristic));
@@ -531,6 +533,7 @@ std::string to_json(const MeshReport& r) {
   out << "{\n";
   out << "  \"structure_error\": " << (r.structure_error.empty() ? "null" : '"' + json_escape(r.structure_error) + '"') << ",\n";
   out << "  \"vertices\": " << r.vertices << ",\n";
+  out << "  \"vertex_colours\": " << (r.vertex_colours ? "true" : "false") << ",\n";
   out << "  \"faces\": " << r.faces << ",\n";
   out << "  \"edges\": " << r.edges << ",\n";
   out << "  \"euler_characteristic\": " << r.euler_characteristic << ",\n";

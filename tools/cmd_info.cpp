@@ -106,7 +106,6 @@ int run_info(const InfoOptions& options) {
   add_self_intersections(*mesh, report);
   std::cout << (options.json ? to_json(report) : to_text(report));
   if (options.json || report.invalid_index_faces > 0) return kOk;
-  if (!mesh->colors.empty()) std::cout << "vertex colours:          red, green, blue (remesh and encode carry them)\n";
   TriangleMesh triangles;
   MeshReport triangle_report;
   if (report.non_triangle_faces > 0) {

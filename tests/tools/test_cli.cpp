@@ -321,6 +321,8 @@ TEST_CASE("vertex colours go through encode, decode, stream and remesh", "[cli][
   const fs::path coloured = write_file(dir / "tet4c.off", coff.str());
   CHECK_THAT(run("info " + coloured.string()).output, Catch::Contains("vertex colours:"));
   CHECK_THAT(run("info " + fine).output, !Catch::Contains("vertex colours:"));
+  CHECK_THAT(run("info " + coloured.string() + " --json").output, Catch::Contains("\"vertex_colours\": true"));
+  CHECK_THAT(run("info " + fine + " --json").output, Catch::Contains("\"vertex_colours\": false"));
   const std::string mlz = (dir / "c.mlz").string();
   REQUIRE(run("encode " + coloured.string() + " -o " + mlz).exit_code == 0);
   CHECK_THAT(run("info " + mlz).output, Catch::Contains("the vertices' colour"));

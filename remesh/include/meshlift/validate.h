@@ -41,6 +41,7 @@ struct MeshReport {
   std::string structure_error;
 
   std::uint64_t vertices = 0;             ///< vertex_count(), including isolated ones
+  bool vertex_colours = false;            ///< a colour per vertex (PolygonMesh::colors)
   std::uint64_t faces = 0;                ///< face_count(), including unusable ones
   std::uint64_t non_triangle_faces = 0;   ///< faces whose corner count is not 3
   std::uint32_t first_non_triangle_face = kNone;
