@@ -335,32 +335,11 @@ std::uint64_t read_bulk(const Element& e, BinaryBody& body, PolygonMesh& mesh) {
 }
 
 /// A colour property's value in [0, 1]: an integer type's value over its largest (uchar 255,
-/// ushort 65535, ...), a float's as it is, each clamped to [0, 1].
+/// ushort 65535, ...: 2^bits - 1, or 2^(bits - 1) - 1 signed), a float's as it is, each clamped
+/// to [0, 1].
 double colour_value(Type t, double value) {
-  double largest = 1;
-  switch (t) {
-    case Type::i8:
-      largest = 127;
-      break;
-    case Type::u8:
-      largest = 255;
-      break;
-    case Type::i16:
-      largest = 32767;
-      break;
-    case Type::u16:
-      largest = 65535;
-      break;
-    case Type::i32:
-      largest = 2147483647.0;
-      break;
-    case Type::u32:
-      largest = 4294967295.0;
-      break;
-    case Type::f32:
-    case Type::f64:
-      break;
-  }
+  const bool is_signed = t == Type::i8 || t == Type::i16 || t == Type::i32;
+  const double largest = is_float(t) ? 1.0 : std::ldexp(1.0, 8 * static_cast<int>(size_of(t)) - (is_signed ? 1 : 0)) - 1;
   return std::clamp(value / largest, 0.0, 1.0);
 }
 
