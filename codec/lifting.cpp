@@ -18,6 +18,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -344,20 +345,43 @@ void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std:
 /// The predict step of linear or butterfly for level `level`, 8 Ki rows at a time (256 KiB of
 /// butterfly's sources): at the base its rows' blocks from its topology, each applied as it
 /// comes, before_odd given each block's targets first; above it each row applied as it is read
-/// off the level below (the level's own topology is not needed), before_odd given each chunk's.
-/// The same bits either way.
+/// off the level below (`rows`, stencils::RefinedPredictRows; the level's own topology is not
+/// needed), before_odd given each chunk's. The same bits either way.
 constexpr std::uint32_t kPredictBlockRows = 8192;
-void predict_synthesis(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level, double* x, int channels,
+void predict_synthesis(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level,
+                       const stencils::RefinedPredictRows* rows, double* x, int channels,
                        const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) {
   if (level > 0) {
-    stencils::refined_predict_synthesis(hierarchy.topology(level - 1), scheme, kPredictBlockRows, x, channels, before_odd,
-                                        concurrent);
+    rows->synthesize(kPredictBlockRows, x, channels, before_odd, concurrent);
     return;
   }
   stencils::predict_blocks(hierarchy.topology(0), scheme, kPredictBlockRows, [&](const LiftingStep& block) {
     if (before_odd) before_odd(block.first_target, block.row_count);
     apply_step<true>(block, x, channels);
   });
+}
+
+/// The refined rows of level `level` (read off the level below), or none at the base.
+std::optional<stencils::RefinedPredictRows> refined_rows(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level) {
+  std::optional<stencils::RefinedPredictRows> rows;
+  if (level > 0) rows.emplace(hierarchy.topology(level - 1), scheme);
+  return rows;
+}
+
+/// update_weights() of a level whose refined rows (refined_rows()) are made already.
+std::vector<double> level_update_weights(const SemiRegularHierarchy& hierarchy, Scheme scheme, int level,
+                                         const stencils::RefinedPredictRows* rows) {
+  // The predict rows' column sums in table order (stencils::add_column_sums: at the base over its
+  // blocks, above it as the rows are read off the level below), then each vertex's weight in
+  // place of its sum.
+  std::vector<double> weight(hierarchy.vertex_count(level), 0.0);
+  if (level == 0)
+    stencils::predict_blocks(hierarchy.topology(0), scheme, kPredictBlockRows,
+                             [&](const LiftingStep& block) { stencils::add_column_sums(block, weight); });
+  else
+    rows->add_column_sums(weight);
+  for (double& w : weight) w = -stencils::update_weight(w);
+  return weight;
 }
 
 }  // namespace
@@ -371,17 +395,8 @@ std::vector<double> update_weights(const SemiRegularHierarchy& hierarchy, Scheme
   if (scheme == Scheme::loop) throw std::invalid_argument("update_weights: Loop has its own update");
   if (level < 0 || level >= hierarchy.levels())
     throw std::invalid_argument("update_weights: no level " + std::to_string(level) + " below the finest");
-  // The predict rows' column sums in table order (stencils::add_column_sums: at the base over its
-  // blocks, above it as the rows are read off the level below), then each vertex's weight in
-  // place of its sum.
-  std::vector<double> weight(hierarchy.vertex_count(level), 0.0);
-  if (level == 0)
-    stencils::predict_blocks(hierarchy.topology(0), scheme, kPredictBlockRows,
-                             [&](const LiftingStep& block) { stencils::add_column_sums(block, weight); });
-  else
-    stencils::refined_column_sums(hierarchy.topology(level - 1), scheme, weight);
-  for (double& w : weight) w = -stencils::update_weight(w);
-  return weight;
+  const std::optional<stencils::RefinedPredictRows> rows = refined_rows(hierarchy, scheme, level);
+  return level_update_weights(hierarchy, scheme, level, rows ? &*rows : nullptr);
 }
 
 void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
@@ -396,25 +411,32 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
   if (options.scheme != Scheme::loop) {
     // One predict step (predict_synthesis), each chunk's odd vertices made ready just before it.
     if (!options.mean_preserving_update) {
-      predict_synthesis(hierarchy, options.scheme, level, values.data(), channels, before_odd, concurrent);
+      const std::optional<stencils::RefinedPredictRows> rows = refined_rows(hierarchy, options.scheme, level);
+      predict_synthesis(hierarchy, options.scheme, level, rows ? &*rows : nullptr, values.data(), channels, before_odd,
+                        concurrent);
       return;
     }
     // With the mean-preserving update, its step first, without the tables of either step: its
-    // weights (handed over, or update_weights(): a first pass over the predict blocks), every odd
-    // vertex made ready (the update reads them all), the update, then the predict rows as above.
-    // The first two side by side: the weights' pass reads only the topology and writes only
-    // `computed`; before_odd writes only odd vertices; run_both joins both before the update
+    // weights (handed over, or update_weights(): a first pass over the predict rows), every odd
+    // vertex made ready (the update reads them all), the update, then the predict rows as above,
+    // read through the same refined rows as the weights' pass (made once, in that pass). The
+    // first two side by side: the weights' pass reads only the topology and writes only `rows`
+    // and `computed`; before_odd writes only odd vertices; run_both joins both before the update
     // reads them.
     if (!weights.empty() && weights.size() != first_odd)
       throw std::invalid_argument("synthesize_level: the update's weights are not the level's vertices");
+    std::optional<stencils::RefinedPredictRows> rows;
     std::vector<double> computed;
     run_both(
         concurrent && weights.empty(),
         [&] { if (before_odd) before_odd(first_odd, hierarchy.vertex_count(level + 1) - first_odd); },
-        [&] { if (weights.empty()) computed = update_weights(hierarchy, options.scheme, level); });
+        [&] {
+          rows = refined_rows(hierarchy, options.scheme, level);
+          if (weights.empty()) computed = level_update_weights(hierarchy, options.scheme, level, rows ? &*rows : nullptr);
+        });
     inverse_update_level(hierarchy, level, weights.empty() ? std::span<const double>(computed) : weights, values.data(),
                          channels);
-    predict_synthesis(hierarchy, options.scheme, level, values.data(), channels, {}, concurrent);
+    predict_synthesis(hierarchy, options.scheme, level, rows ? &*rows : nullptr, values.data(), channels, {}, concurrent);
     return;
   }
   if (level == 0) {

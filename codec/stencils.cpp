@@ -226,7 +226,7 @@ class ButterflyVertices {
     }
     if (any_boundary) edges_.emplace(t);
     // The ring weights of every interior valence present, made here so that nothing changes once
-    // built: two threads may read rows off one ButterflyVertices (refined_predict_synthesis).
+    // built: two threads may read rows off one ButterflyVertices (RefinedPredictRows::synthesize).
     for (std::uint32_t v = 0; v < t.vertex_count; ++v)
       if (irregular(v)) {
         const std::uint32_t K = valence_[v];
@@ -812,17 +812,27 @@ struct LinearRefinedRows {
   }
 };
 
-/// Calls use(make_rows) with a maker of readers of `scheme`'s refined rows (linear or
-/// butterfly): make_rows() gives a reader of its own, for one thread, over what all share.
+}  // namespace
+
+/// What every refined row reads of the coarse level: for butterfly its ButterflyRefinedLevel,
+/// built once and then only read (rows may be written off it on two threads, each with a reader
+/// of its own).
+struct RefinedPredictRows::Shared {
+  const TriangleTopology& coarse;
+  Scheme scheme;
+  std::optional<ButterflyRefinedLevel> butterfly;  ///< for Scheme::butterfly
+};
+
+namespace {
+
+/// Calls use(make_rows) with a maker of readers of the refined rows `shared` prepares:
+/// make_rows() gives a reader of its own, for one thread, over what all share.
 template <class Use>
-void with_refined_rows(const TriangleTopology& coarse, Scheme scheme, const char* caller, Use&& use) {
-  if (scheme == Scheme::loop) throw std::invalid_argument(std::string(caller) + ": linear or butterfly only");
-  if (scheme == Scheme::linear) {
-    use([&] { return LinearRefinedRows{coarse}; });
-  } else {
-    const ButterflyRefinedLevel level(coarse);
-    use([&] { return ButterflyRefinedRows(level); });
-  }
+void with_refined_rows(const RefinedPredictRows::Shared& shared, Use&& use) {
+  if (shared.butterfly)
+    use([&] { return ButterflyRefinedRows(*shared.butterfly); });
+  else
+    use([&] { return LinearRefinedRows{shared.coarse}; });
 }
 
 /// The patterns a rule registers with the row sinks below (butterfly's regular row, the
@@ -919,10 +929,22 @@ LiftingStep loop_update_refined(const TriangleTopology& coarse, const TriangleTo
   return step.finish();
 }
 
-LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
+RefinedPredictRows::RefinedPredictRows(const TriangleTopology& coarse, Scheme scheme) {
+  if (scheme == Scheme::loop) throw std::invalid_argument("refined predict rows: linear or butterfly only");
+  auto shared = std::make_unique<Shared>(Shared{coarse, scheme, std::nullopt});
+  if (scheme == Scheme::butterfly) shared->butterfly.emplace(coarse);
+  shared_ = std::move(shared);
+}
+
+RefinedPredictRows::~RefinedPredictRows() = default;
+RefinedPredictRows::RefinedPredictRows(RefinedPredictRows&&) noexcept = default;
+RefinedPredictRows& RefinedPredictRows::operator=(RefinedPredictRows&&) noexcept = default;
+
+LiftingStep RefinedPredictRows::step() const {
+  const TriangleTopology& coarse = shared_->coarse;
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  StepWriter step(coarse.vertex_count + E, predict_arity(scheme) * (2 * std::size_t{E} + 3 * std::size_t{F}));
-  with_refined_rows(coarse, scheme, "refined_predict", [&](auto make_rows) {
+  StepWriter step(coarse.vertex_count + E, predict_arity(shared_->scheme) * (2 * std::size_t{E} + 3 * std::size_t{F}));
+  with_refined_rows(*shared_, [&](auto make_rows) {
     auto rows = make_rows();
     rows.halves(step, 0, E);
     rows.inner(step, 0, F);
@@ -930,12 +952,15 @@ LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) {
   return step.finish();
 }
 
-void refined_predict_synthesis(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows, double* x,
-                               int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
-                               bool concurrent) {
+LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) { return RefinedPredictRows(coarse, scheme).step(); }
+
+void RefinedPredictRows::synthesize(std::uint32_t block_rows, double* x, int channels,
+                                    const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
+                                    bool concurrent) const {
+  const TriangleTopology& coarse = shared_->coarse;
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   const std::uint32_t first_odd = coarse.vertex_count + E;
-  with_refined_rows(coarse, scheme, "refined_predict_synthesis", [&](auto make_rows) {
+  with_refined_rows(*shared_, [&](auto make_rows) {
     // The halves of coarse edges [e0, e1), then the inner edges of coarse faces [f0, f1), a
     // chunk of about block_rows rows at a time, each chunk's targets handed to before_odd first.
     auto part = [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
@@ -966,9 +991,10 @@ void refined_predict_synthesis(const TriangleTopology& coarse, Scheme scheme, st
   });
 }
 
-void refined_column_sums(const TriangleTopology& coarse, Scheme scheme, std::span<double> column_sum) {
+void RefinedPredictRows::add_column_sums(std::span<double> column_sum) const {
+  const TriangleTopology& coarse = shared_->coarse;
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  with_refined_rows(coarse, scheme, "refined_column_sums", [&](auto make_rows) {
+  with_refined_rows(*shared_, [&](auto make_rows) {
     auto rows = make_rows();
     ColumnSumRows sink(column_sum);
     rows.halves(sink, 0, E);

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -26,24 +27,39 @@ void predict_blocks(const TriangleTopology& topology, Scheme scheme, std::uint32
 
 /// The rows of predict(coarse.refined(), scheme) for linear or butterfly, the same rows in the
 /// same order, read off the coarse level by the refinement rule (the fine level's topology is not
-/// needed), their synthesis applied to x, `channels` values per vertex, as each row is read, with
-/// no table: each row computed as the synthesis computes its table row (lifting.cpp's
-/// synthesize_run: the target times the scale, then the sources in row order), so the same bits.
-/// The halves of the coarse edges, then the inner edges of the coarse faces, a chunk of about
-/// `block_rows` rows at a time; before_odd (if set) gets each chunk's targets (first, count)
-/// before its rows. With `concurrent`, the second half of the edges and of the faces on a thread
-/// of its own (before_odd then called from two threads at once, with disjoint targets).
-/// \throw std::invalid_argument for Scheme::loop (Loop's rows: loop_halves, loop_inner).
-void refined_predict_synthesis(const TriangleTopology& coarse, Scheme scheme, std::uint32_t block_rows, double* x,
-                               int channels, const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
-                               bool concurrent);
-/// Adds the weights of every row of refined_predict(coarse, scheme) to `column_sum` (indexed by
-/// source vertex), as add_column_sums() adds a table's, with no table: the same bits.
-/// \pre column_sum covers the rows' sources, the coarse level's vertices and edge midpoints.
-/// \throw std::invalid_argument for Scheme::loop.
-void refined_column_sums(const TriangleTopology& coarse, Scheme scheme, std::span<double> column_sum);
-/// The same rows as one step (a table): predict(coarse.refined(), scheme), read off the coarse level.
-/// \throw std::invalid_argument for Scheme::loop (loop_predict_refined).
+/// needed). What every row reads of the coarse level (butterfly: the valences, the tips across
+/// each face's edges) is built once, here, for any number of the uses below (the update's column
+/// sums and the predict step of one synthesis). \throw std::invalid_argument for Scheme::loop
+/// (Loop's rows: loop_halves, loop_inner).
+class RefinedPredictRows {
+ public:
+  RefinedPredictRows(const TriangleTopology& coarse, Scheme scheme);
+  ~RefinedPredictRows();
+  RefinedPredictRows(RefinedPredictRows&&) noexcept;
+  RefinedPredictRows& operator=(RefinedPredictRows&&) noexcept;
+
+  /// Their synthesis applied to x, `channels` values per vertex, as each row is read, with no
+  /// table: each row computed as the synthesis computes its table row (lifting.cpp's
+  /// synthesize_run: the target times the scale, then the sources in row order), so the same
+  /// bits. The halves of the coarse edges, then the inner edges of the coarse faces, a chunk of
+  /// about `block_rows` rows at a time; before_odd (if set) gets each chunk's targets (first,
+  /// count) before its rows. With `concurrent`, the second half of the edges and of the faces on a
+  /// thread of its own (before_odd then called from two threads at once, with disjoint targets).
+  void synthesize(std::uint32_t block_rows, double* x, int channels,
+                  const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) const;
+  /// Adds the weights of every row to `column_sum` (indexed by source vertex), as
+  /// add_column_sums() adds a table's, with no table: the same bits. \pre column_sum covers the
+  /// rows' sources, the coarse level's vertices and edge midpoints.
+  void add_column_sums(std::span<double> column_sum) const;
+  /// The rows as one step (a table).
+  LiftingStep step() const;
+
+  struct Shared;
+
+ private:
+  std::unique_ptr<const Shared> shared_;
+};
+/// The same rows as one step: RefinedPredictRows(coarse, scheme).step().
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
 
 /// Loop's vertex rule written over the odd vertices (CODEC-NOTES §3): one row per even vertex,

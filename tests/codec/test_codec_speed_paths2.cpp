@@ -10,6 +10,7 @@
 #include <mutex>
 #include <algorithm>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -145,6 +146,9 @@ TEST_CASE("butterfly rows written straight, a block at a time and applied as rea
       REQUIRE(expand_rows(stencils::predict(t, Scheme::butterfly)) == reference);
       for (Scheme scheme : {Scheme::linear, Scheme::butterfly}) {
         const std::vector<std::vector<double>> whole = expand_rows(stencils::predict(t, scheme));
+        // Above the base, one set of refined rows for every use below.
+        std::optional<stencils::RefinedPredictRows> refined;
+        if (j > 0) refined.emplace(h.topology(j - 1), scheme);
         for (std::uint32_t block_rows : {1u, 7u, 64u, 1u << 20}) {
           std::vector<std::vector<double>> blocks;
           stencils::predict_blocks(t, scheme, block_rows, [&](const LiftingStep& s) {
@@ -181,8 +185,8 @@ TEST_CASE("butterfly rows written straight, a block at a time and applied as rea
               std::fill(values.begin() + first_odd * n, values.end(), std::nan(""));
               std::mutex handed_lock;
               std::vector<int> handed(fine - first_odd, 0);
-              stencils::refined_predict_synthesis(
-                  h.topology(j - 1), scheme, block_rows, values.data(), channels,
+              refined->synthesize(
+                  block_rows, values.data(), channels,
                   [&](std::uint32_t first, std::uint32_t count) {
                     const std::lock_guard<std::mutex> lock(handed_lock);
                     for (std::uint32_t v = first; v < first + count && v >= first_odd && v < fine; ++v) {
@@ -199,19 +203,17 @@ TEST_CASE("butterfly rows written straight, a block at a time and applied as rea
           REQUIRE(expand_rows(stencils::refined_predict(h.topology(j - 1), scheme)) == whole);
         }
         if (j == 0) continue;
-        // The rows' column sums read off the level below: the table's, bit for bit.
+        // The rows' column sums read off the level below, through the same refined rows that every
+        // synthesis above used: the table's, bit for bit.
         std::vector<double> sums(h.vertex_count(j), 0.0), expected_sums(h.vertex_count(j), 0.0);
         stencils::add_column_sums(stencils::predict(t, scheme), expected_sums);
-        stencils::refined_column_sums(h.topology(j - 1), scheme, sums);
+        refined->add_column_sums(sums);
         REQUIRE(same_bits(sums, expected_sums));
       }
     }
     CHECK_THROWS_AS(stencils::predict_blocks(h.topology(0), Scheme::loop, 64, [](const LiftingStep&) {}),
                     std::invalid_argument);
-    std::vector<double> x(3 * std::size_t{h.vertex_count(1)}), sums(h.vertex_count(1));
-    CHECK_THROWS_AS(stencils::refined_predict_synthesis(h.topology(0), Scheme::loop, 64, x.data(), 3, {}, false),
-                    std::invalid_argument);
-    CHECK_THROWS_AS(stencils::refined_column_sums(h.topology(0), Scheme::loop, sums), std::invalid_argument);
+    CHECK_THROWS_AS(stencils::RefinedPredictRows(h.topology(0), Scheme::loop), std::invalid_argument);
     CHECK_THROWS_AS(stencils::refined_predict(h.topology(0), Scheme::loop), std::invalid_argument);
   }
 }
