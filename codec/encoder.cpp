@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <thread>
 
@@ -16,6 +17,7 @@
 #include "meshlift/codec.h"
 #include "meshlift/container.h"
 #include "quantize.h"
+#include "stencils.h"
 #include "stream_header.h"
 #include "zerotree_coder.h"
 
@@ -44,33 +46,20 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// at their neighbours; an update row's sources are the odd vertices on its vertex's edges, so
 /// those are the endpoints of live odd vertices' edges and the live even vertices themselves.
 /// `buffer` holds at least vertex_count(L) zeros and is left holding zeros; `edges` holds the
-/// incident edges of levels 0 to L - 1 (level_edges, built before the transform's tables exist).
-std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTransform& transform,
-                                  std::span<double> buffer, const std::vector<VertexEdges>& edges) {
+/// incident edges of levels 0 to L - 1 (level_edges), `update` each level's mean-preserving update
+/// weights (update_weights(); empty for Loop or without the update). The rows come from
+/// stencils::LevelRows, one at a time, each as its table holds it: no table is built above the base.
+std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions wavelet, std::span<double> buffer,
+                                  const std::vector<VertexEdges>& edges, const std::vector<std::vector<double>>& update) {
   const int L = h.levels();
   std::vector<double> weights(static_cast<std::size_t>(L) + 1);
-  // Per step, where each run's rows start in its row order and in its index table.
-  struct RunStarts {
-    std::vector<std::uint32_t> row;
-    std::vector<std::size_t> index;
-  };
-  std::vector<std::vector<RunStarts>> starts(static_cast<std::size_t>(L));
+  std::vector<std::unique_ptr<stencils::LevelRows>> level_rows;
   std::size_t most_rows = 0;
   for (int i = 0; i < L; ++i) {
-    for (const LiftingStep& step : transform.steps(i)) {
-      RunStarts r;
-      std::uint32_t row = 0;
-      std::size_t index = 0;
-      for (const LiftingStep::Run& run : step.runs) {
-        r.row.push_back(row);
-        r.index.push_back(index);
-        row += run.rows;
-        index += std::size_t{run.rows} * step.patterns[run.pattern].arity;
-      }
-      r.row.push_back(row);
-      most_rows = std::max<std::size_t>(most_rows, row);
-      starts[static_cast<std::size_t>(i)].push_back(std::move(r));
-    }
+    const auto level = static_cast<std::size_t>(i);
+    level_rows.push_back(std::make_unique<stencils::LevelRows>(h, wavelet, i, edges[level], update[level]));
+    for (const stencils::LevelRows::Step& step : level_rows.back()->steps())
+      most_rows = std::max<std::size_t>(most_rows, step.rows);
   }
   double* x = buffer.data();
   const std::uint32_t V_L = h.vertex_count(L);
@@ -112,7 +101,8 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
       // in a resident buffer). It gives the same bits: the rows outside the support compute +0 as
       // said above, and their squares add nothing to the sum, taken in the same vertex order.
       x[h.vertex_count(0) / 2] = 1.0;
-      transform.synthesize(buffer.first(V_L), 1);
+      for (int i = 0; i < L; ++i)
+        synthesize_level(h, wavelet, i, buffer.first(V_L), 1, {}, false, update[static_cast<std::size_t>(i)]);
       double sum = 0.0;
       for (std::uint32_t v = 0; v < V_L; ++v) {
         sum += x[v] * x[v];
@@ -128,9 +118,9 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
       const VertexEdges& ve = edges[static_cast<std::size_t>(i)];
       const TriangleTopology& t = h.topology(i);
       const std::uint32_t V = h.vertex_count(i), fine_V = h.vertex_count(i + 1);
-      for (std::size_t s = 0; s < transform.steps(i).size(); ++s) {
-        const LiftingStep& step = transform.steps(i)[s];
-        const RunStarts& r = starts[static_cast<std::size_t>(i)][s];
+      stencils::LevelRows& rows = *level_rows[static_cast<std::size_t>(i)];
+      for (std::size_t s = 0; s < rows.steps().size(); ++s) {
+        const stencils::LevelRows::Step step = rows.steps()[s];
         auto candidate = [&](std::uint32_t target) {
           const std::uint32_t row = target - step.first_target;
           if (!is_candidate[row]) is_candidate[row] = 1, candidates.push_back(row);
@@ -167,15 +157,11 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, const WaveletTr
           }
         }
         // The candidate rows in row order, each as synthesize_run computes it for one channel.
-        std::size_t run = 0;
-        in_order(is_candidate, candidates, step.rows(), [&](std::uint32_t row) {
-          while (r.row[run + 1] <= row) ++run;
-          const LiftingStep::Pattern& p = step.patterns[step.runs[run].pattern];
-          const double* w = step.pattern_weights.data() + p.first_weight;
-          const std::uint32_t* source = step.indices.data() + r.index[run] + std::size_t{row - r.row[run]} * p.arity;
+        in_order(is_candidate, candidates, step.rows, [&](std::uint32_t row) {
           const std::uint32_t target = step.first_target + row;
-          double acc = p.scale * x[target];
-          for (std::uint32_t k = 0; k < p.arity; ++k) acc += w[k] * x[source[k]];
+          const stencils::LevelRows::Row r = rows.row(s, target);
+          double acc = r.scale * x[target];
+          for (std::size_t k = 0; k < r.sources.size(); ++k) acc += r.weights[k] * x[r.sources[k]];
           x[target] = acc;
           make_live(target);
         });
@@ -228,8 +214,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   if (std::find(used.begin(), used.end(), 0) != used.end()) throw MeshError("encode: the base mesh has vertices no face uses");
 
   // With more than one thread, the independent stages run side by side (concurrent.h): the
-  // canonical hierarchy's topology while its renumbering is computed, the transform's tables while
-  // the values are gathered, the level weights while they are analyzed.
+  // canonical hierarchy's topology while its renumbering is computed, the level weights while the
+  // values are gathered and analyzed.
   const bool concurrent = options.threads == 0
                               ? std::thread::hardware_concurrency() > 1 && V >= EncodeOptions::kConcurrentEncodeVertices
                               : options.threads > 1;
@@ -262,19 +248,29 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   }();
   const std::size_t k_stride = static_cast<std::size_t>(K);
   std::vector<double> values;
-  std::optional<WaveletTransform> transform_tables;
   const WaveletOptions wavelet{header.scheme, header.mean_preserving_update};
-  // What the level weights walk, built beside the gathering too: the levels' incident edges, and
-  // the impulses' buffer of zeros, resident before the base vertex's whole synthesis writes it
-  // (large_array.h: one system call for the pages instead of a fault each).
-  std::vector<VertexEdges> edges;
-  std::vector<double> impulses;
+  // The mean-preserving update's weights of each level (a pass over its predict rows), made once
+  // for the level weights and the closed loop's syntheses.
+  std::vector<std::vector<double>> update(static_cast<std::size_t>(L));
+  // No transform tables (18 to 36 bytes per vertex, and their build on the critical path): the
+  // values are analyzed a level at a time as the decoder synthesizes them (analyze_level), and
+  // the level weights read the few rows they follow one at a time (stencils::LevelRows). On one
+  // side those weights, after what they walk: the levels' incident edges and the impulses' buffer
+  // of zeros, resident before the base vertex's whole synthesis writes it (large_array.h: one
+  // system call for the pages instead of a fault each). On the other the values gathered,
+  // analyzed, and the quantized records' pages made resident (every record is written below).
+  zerotree::Quantized q;
+  q.components = K;
   std::optional<zerotree::Forest> forest;
   run_both(concurrent, [&] {
-    transform_tables.emplace(h, wavelet);
-    edges = level_edges(h);
-  }, [&] {
+    if (wavelet.mean_preserving_update)
+      for (int j = 0; j < L; ++j) update[static_cast<std::size_t>(j)] = update_weights(h, wavelet.scheme, j);
+    const std::vector<VertexEdges> edges = level_edges(h);
+    std::vector<double> impulses;
     assign_large(impulses, V, 0.0);
+    header.level_weights = level_weights(h, wavelet, impulses, edges, update);
+    for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
+  }, [&] {
     // Each value's extremes over all vertices (the bounding box and the channels' ranges), and
     // whether one is NaN or infinite, in one pass over the input in its own order (min and max are
     // exact; the one case where their order shows, a signed zero, is settled below); the values
@@ -362,27 +358,15 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
         for (std::size_t i = 0; i < n; ++i) values.push_back(c.values[n * old + i] - centre[k++]);
       }
     }
-    forest.emplace(h);  // the coefficient tree for the bit planes (the other side takes longer)
+    forest.emplace(h);  // the coefficient tree for the bit planes
+    // Analysis of the centred values, from the finest level down: base values at [0, V0),
+    // details at the odd vertices. On this thread alone (the other is busy); with the
+    // mean-preserving update each level's weights are made here too (a pass over its predict
+    // rows beside the other side's).
+    for (int j = L - 1; j >= 0; --j) analyze_level(h, wavelet, j, values, K);
+    q.allocate(values.size());
+    populate(q.coefficients.get(), q.size * sizeof(zerotree::Quantized::Coefficient));
   });
-  const WaveletTransform& transform = *transform_tables;
-  // The level weights beside the analysis and the quantized records' pages made resident (every
-  // record is written below).
-  zerotree::Quantized q;
-  q.components = K;
-  run_both(
-      concurrent,
-      [&] {
-        header.level_weights = level_weights(h, transform, impulses, edges);
-        for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
-      },
-      [&] {
-        // Analysis of the centred values: base values at [0, V0), details at the odd vertices.
-        transform.analyze(values, K);
-        q.allocate(values.size());
-        populate(q.coefficients.get(), q.size * sizeof(zerotree::Quantized::Coefficient));
-      });
-  edges = {};
-  impulses = {};
 
   // Quantization: magnitude = floor(|c w_j| / step_c) (a dead-zone quantizer; the decoder
   // reconstructs at the middle of the interval its bits leave open).
@@ -446,7 +430,7 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       run_both(
           concurrent, [&] { second_half = close_loop(half, edges); }, [&] { first_half = close_loop(0, half); });
       too_fine |= first_half || second_half;
-      if (!finest) transform.synthesize(decoded, K, j + 1, j, concurrent);
+      if (!finest) synthesize_level(h, wavelet, j, decoded, K, {}, concurrent, update[static_cast<std::size_t>(j)]);
     }
   }
   if (too_fine)

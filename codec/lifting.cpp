@@ -25,6 +25,7 @@
 #include "meshlift/lifting.h"
 
 #include "concurrent.h"
+#include "large_array.h"
 #include "stencils.h"
 
 namespace meshlift {
@@ -211,32 +212,37 @@ void apply_step(const LiftingStep& s, double* x, int channels, bool concurrent =
 // row computed as synthesize_run computes its table row (the target times the scale 1 first, then
 // the sources in row order with the row's weights), a pillow's merged row as its table holds it
 // (c once, with 1/8 + 1/8).
-template <int C>
+// With Synthesis false its analysis, each row as analyze_run computes it: the sources summed
+// from zero in row order, subtracted from the target (the scale is 1); before_odd is then unused.
+template <bool Synthesis, int C>
 void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd, double* __restrict x, int channels,
                          const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, std::uint32_t e0,
                          std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
   const int n = C > 0 ? C : channels;
   const double outer = 3.0 / 8, wing = 1.0 / 8, merged = 1.0 / 8 + 1.0 / 8, half = 0.5;
   double* target = nullptr;
+  // The row's first term (the target times its scale 1, or analyze_run's zero) and its end.
+  auto start = [&](int k) { return Synthesis ? 1.0 * target[k] : 0.0; };
+  auto finish = [&](int k, double acc) { target[k] = Synthesis ? acc : (target[k] - acc) / 1.0; };
   auto interior = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
     const double *pa = x + std::size_t{a} * n, *pb = x + std::size_t{b} * n, *pc = x + std::size_t{c} * n;
     if (c != d) [[likely]] {
       const double* pd = x + std::size_t{d} * n;
       for (int k = 0; k < n; ++k) {
-        double acc = 1.0 * target[k];
+        double acc = start(k);
         acc += outer * pa[k];
         acc += outer * pb[k];
         acc += wing * pc[k];
         acc += wing * pd[k];
-        target[k] = acc;
+        finish(k, acc);
       }
     } else {
       for (int k = 0; k < n; ++k) {
-        double acc = 1.0 * target[k];
+        double acc = start(k);
         acc += outer * pa[k];
         acc += outer * pb[k];
         acc += merged * pc[k];
-        target[k] = acc;
+        finish(k, acc);
       }
     }
     target += n;
@@ -244,10 +250,10 @@ void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd
   auto boundary = [&](std::uint32_t a, std::uint32_t b) {
     const double *pa = x + std::size_t{a} * n, *pb = x + std::size_t{b} * n;
     for (int k = 0; k < n; ++k) {
-      double acc = 1.0 * target[k];
+      double acc = start(k);
       acc += half * pa[k];
       acc += half * pb[k];
-      target[k] = acc;
+      finish(k, acc);
     }
     target += n;
   };
@@ -255,13 +261,13 @@ void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd
   const auto E = static_cast<std::uint32_t>(coarse.edge_count());
   for (std::uint32_t begin = e0; begin < e1; begin += kChunk) {
     const std::uint32_t end = begin + std::min(kChunk, e1 - begin);
-    if (before_odd) before_odd(first_odd + 2 * begin, 2 * (end - begin));
+    if (Synthesis && before_odd) before_odd(first_odd + 2 * begin, 2 * (end - begin));
     target = x + (std::size_t{first_odd} + 2 * std::size_t{begin}) * n;
     stencils::loop_halves(coarse, begin, end, interior, boundary);
   }
   for (std::uint32_t begin = f0; begin < f1; begin += kChunk) {
     const std::uint32_t end = begin + std::min(kChunk, f1 - begin);
-    if (before_odd) before_odd(first_odd + 2 * E + 3 * begin, 3 * (end - begin));
+    if (Synthesis && before_odd) before_odd(first_odd + 2 * E + 3 * begin, 3 * (end - begin));
     target = x + (std::size_t{first_odd} + 2 * std::size_t{E} + 3 * std::size_t{begin}) * n;
     stencils::loop_inner(coarse, begin, end, interior);
   }
@@ -270,6 +276,23 @@ void loop_predict_direct(const TriangleTopology& coarse, std::uint32_t first_odd
 void check_channels(int channels) {
   if (channels < 1 || channels > 64) throw std::invalid_argument("channels must be between 1 and 64");
 }
+
+/// loop_predict_direct with its channel count known at compile time for positions (3) and single channels (1).
+template <bool Synthesis>
+void loop_predict(const TriangleTopology& coarse, std::uint32_t first_odd, double* x, int channels,
+                  const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, std::uint32_t e0, std::uint32_t e1,
+                  std::uint32_t f0, std::uint32_t f1) {
+  if (channels == 3)
+    loop_predict_direct<Synthesis, 3>(coarse, first_odd, x, 3, before_odd, e0, e1, f0, f1);
+  else if (channels == 1)
+    loop_predict_direct<Synthesis, 1>(coarse, first_odd, x, 1, before_odd, e0, e1, f0, f1);
+  else
+    loop_predict_direct<Synthesis, 0>(coarse, first_odd, x, channels, before_odd, e0, e1, f0, f1);
+}
+
+/// Loop's update step above the base is made and applied in blocks of 16 Ki rows (256 KiB of
+/// sources, in L2 from writing to use).
+constexpr std::uint32_t kLoopUpdateBlockRows = 16384;
 
 }  // namespace
 
@@ -305,6 +328,25 @@ void WaveletTransform::synthesize(std::span<double> values, int channels, int to
 
 namespace {
 
+/// Calls f(e, a, b) for every edge e = (a, b) of level `level`, in increasing order: the base's
+/// from its own topology, above it read off the level below (TriangleTopology::refined_edge),
+/// whose topology the decoder keeps (a quarter of the size).
+template <class F>
+void for_each_level_edge(const SemiRegularHierarchy& hierarchy, int level, F&& f) {
+  const auto edges = static_cast<std::uint32_t>(hierarchy.vertex_count(level + 1) - hierarchy.vertex_count(level));
+  if (level == 0) {
+    const std::uint32_t* ends = hierarchy.topology(0).edge_vertices.data();
+    for (std::uint32_t e = 0; e < edges; ++e) f(e, ends[2 * std::size_t{e}], ends[2 * std::size_t{e} + 1]);
+    return;
+  }
+  const TriangleTopology& coarse = hierarchy.topology(level - 1);
+  for (std::uint32_t e = 0; e < edges; ++e) {
+    std::uint32_t a, b;
+    coarse.refined_edge(e, a, b);
+    f(e, a, b);
+  }
+}
+
 /// The synthesis step of the mean-preserving update (stencils::mean_preserving_update) without
 /// its table, over level `level` of `hierarchy`: each even vertex v (below vertex_count(level))
 /// gets x[v] += weight[v] x[V + e] for its edges e in increasing order, weight[v] = -lambda_v
@@ -317,29 +359,14 @@ void inverse_update_level(const SemiRegularHierarchy& hierarchy, int level, std:
                           int channels) {
   const auto n = static_cast<std::size_t>(channels);
   const std::uint32_t first_odd = hierarchy.vertex_count(level);
-  const auto edges = static_cast<std::uint32_t>(hierarchy.vertex_count(level + 1) - first_odd);
-  auto scatter = [&](auto&& ends_of) {
-    for (std::uint32_t e = 0; e < edges; ++e) {
-      std::uint32_t ends[2];
-      ends_of(e, ends[0], ends[1]);
-      const double* detail = x + (std::size_t{first_odd} + e) * n;
-      for (const std::uint32_t v : ends) {
-        const double w = weight[v];
-        double* even = x + std::size_t{v} * n;
-        for (std::size_t c = 0; c < n; ++c) even[c] += w * detail[c];
-      }
+  for_each_level_edge(hierarchy, level, [&](std::uint32_t e, std::uint32_t a, std::uint32_t b) {
+    const double* detail = x + (std::size_t{first_odd} + e) * n;
+    for (const std::uint32_t v : {a, b}) {
+      const double w = weight[v];
+      double* even = x + std::size_t{v} * n;
+      for (std::size_t c = 0; c < n; ++c) even[c] += w * detail[c];
     }
-  };
-  if (level == 0) {
-    const std::uint32_t* base_ends = hierarchy.topology(0).edge_vertices.data();
-    scatter([base_ends](std::uint32_t e, std::uint32_t& a, std::uint32_t& b) {
-      a = base_ends[2 * std::size_t{e}];
-      b = base_ends[2 * std::size_t{e} + 1];
-    });
-  } else {
-    const TriangleTopology& coarse = hierarchy.topology(level - 1);
-    scatter([&coarse](std::uint32_t e, std::uint32_t& a, std::uint32_t& b) { coarse.refined_edge(e, a, b); });
-  }
+  });
 }
 
 /// The predict step of linear or butterfly for level `level`, 8 Ki rows at a time (256 KiB of
@@ -446,23 +473,72 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
     return;
   }
   // The predict step straight off the coarse faces, 8 Ki coarse edges or faces at a time; then
-  // the update step in blocks of 16 Ki rows (256 KiB of sources, in L2 from writing to use).
+  // the update step a block at a time.
   // With `concurrent`, the second half of the edges and of the faces on a thread of their own.
   const TriangleTopology& coarse = hierarchy.topology(level - 1);
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  auto predict = [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
-    if (channels == 3)
-      loop_predict_direct<3>(coarse, first_odd, values.data(), 3, before_odd, e0, e1, f0, f1);
-    else if (channels == 1)
-      loop_predict_direct<1>(coarse, first_odd, values.data(), 1, before_odd, e0, e1, f0, f1);
-    else
-      loop_predict_direct<0>(coarse, first_odd, values.data(), channels, before_odd, e0, e1, f0, f1);
-  };
-  in_halves(concurrent, E, F, predict);
-  constexpr std::uint32_t kBlockRows = 16384;
+  in_halves(concurrent, E, F, [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
+    loop_predict<true>(coarse, first_odd, values.data(), channels, before_odd, e0, e1, f0, f1);
+  });
   stencils::loop_update_blocks(
-      coarse, first_odd, kBlockRows, [&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); }, {},
-      concurrent);
+      coarse, first_odd, kLoopUpdateBlockRows,
+      [&](const LiftingStep& block) { apply_step<true>(block, values.data(), channels); }, {}, concurrent);
+}
+
+void analyze_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                   int channels, bool concurrent, std::span<const double> weights) {
+  check_channels(channels);
+  if (level < 0 || level >= hierarchy.levels())
+    throw std::invalid_argument("analyze_level: no level " + std::to_string(level) + " below the finest");
+  if (values.size() < static_cast<std::size_t>(hierarchy.vertex_count(level + 1)) * channels)
+    throw std::invalid_argument("analyze_level: values hold fewer vertices than the level makes");
+  double* const x = values.data();
+  if (level == 0) {
+    // The base's tables (small), their steps in reverse.
+    const WaveletTransform tables(hierarchy, options, 0, 1);
+    const auto& steps = tables.steps(0);
+    for (auto it = steps.rbegin(); it != steps.rend(); ++it) apply_step<false>(*it, x, channels, concurrent);
+    return;
+  }
+  const std::uint32_t first_odd = hierarchy.vertex_count(level);
+  if (options.scheme == Scheme::loop) {
+    // Synthesis is [predict, update]: first the update's rows a block at a time, then the predict
+    // rows straight off the coarse faces.
+    const TriangleTopology& coarse = hierarchy.topology(level - 1);
+    const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
+    stencils::loop_update_blocks(
+        coarse, first_odd, kLoopUpdateBlockRows, [&](const LiftingStep& block) { apply_step<false>(block, x, channels); },
+        {}, concurrent);
+    in_halves(concurrent, E, F, [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
+      loop_predict<false>(coarse, first_odd, x, channels, {}, e0, e1, f0, f1);
+    });
+    return;
+  }
+  // Synthesis is [update, predict] with the mean-preserving update, else [predict]: the predict
+  // rows as they are read off the level below, then the update.
+  const std::optional<stencils::RefinedPredictRows> rows = refined_rows(hierarchy, options.scheme, level);
+  rows->analyze(kPredictBlockRows, x, channels, concurrent);
+  if (!options.mean_preserving_update) return;
+  if (!weights.empty() && weights.size() != first_odd)
+    throw std::invalid_argument("analyze_level: the update's weights are not the level's vertices");
+  std::vector<double> computed;
+  if (weights.empty()) computed = level_update_weights(hierarchy, options.scheme, level, &*rows);
+  const std::span<const double> weight = weights.empty() ? std::span<const double>(computed) : weights;
+  // Each even vertex's row as analyze_run computes it: its sources (the details on its edges,
+  // in increasing edge order) times its weight summed from zero, then subtracted. The sums are
+  // scattered over the edges in increasing order into a buffer, each vertex's in its row's order.
+  const auto n = static_cast<std::size_t>(channels);
+  std::vector<double> sum;
+  assign_large(sum, std::size_t{first_odd} * n, 0.0);
+  for_each_level_edge(hierarchy, level, [&](std::uint32_t e, std::uint32_t a, std::uint32_t b) {
+    const double* detail = x + (std::size_t{first_odd} + e) * n;
+    for (const std::uint32_t v : {a, b}) {
+      const double w = weight[v];
+      double* s = sum.data() + std::size_t{v} * n;
+      for (std::size_t c = 0; c < n; ++c) s[c] += w * detail[c];
+    }
+  });
+  for (std::size_t i = 0; i < std::size_t{first_odd} * n; ++i) x[i] = (x[i] - sum[i]) / 1.0;
 }
 
 std::size_t WaveletTransform::memory_bytes() const {

@@ -892,6 +892,75 @@ class SynthesisRows : public RowPatterns {
   int n_;
 };
 
+/// The same rows applied in analysis, the inverse, exactly as lifting.cpp's analyze_run computes a
+/// table row: the sources times their weights summed from zero in row order, that sum subtracted
+/// from the target, the difference divided by the row's scale.
+template <int C>
+class AnalysisRows : public RowPatterns {
+ public:
+  AnalysisRows(double* x, int channels) : x_(x), n_(C > 0 ? C : channels) {}
+  void seek(std::uint32_t target) { target_ = x_ + std::size_t{target} * static_cast<std::size_t>(n_); }
+  template <std::size_t N>
+  void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
+    apply(patterns_[pattern].scale, patterns_[pattern].weights.data(), sources, N);
+  }
+  void row(const RowBuilder& builder, double scale = 1.0) {
+    apply(scale, builder.weights().data(), builder.sources().data(), builder.sources().size());
+  }
+
+ private:
+  [[gnu::always_inline]] void apply(double scale, const double* w, const std::uint32_t* sources, std::size_t arity) {
+    const int n = C > 0 ? C : n_;
+    double acc[C > 0 ? C : 64] = {};
+    for (std::size_t k = 0; k < arity; ++k) {
+      const double* source = x_ + std::size_t{sources[k]} * static_cast<std::size_t>(n);
+      for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
+    }
+    for (int c = 0; c < n; ++c) target_[c] = (target_[c] - acc[c]) / scale;
+    target_ += n;
+  }
+
+  double* x_;
+  double* target_ = nullptr;
+  int n_;
+};
+
+/// Takes rows as StepWriter takes them and keeps them (scale, sources, weights), for a caller that
+/// reads a few rows one at a time (LevelRows).
+class CapturedRows : public RowPatterns {
+ public:
+  template <std::size_t N>
+  void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
+    add(patterns_[pattern].scale, patterns_[pattern].weights.data(), sources, N);
+  }
+  void row(const RowBuilder& builder, double scale = 1.0) {
+    add(scale, builder.weights().data(), builder.sources().data(), builder.sources().size());
+  }
+  void clear() {
+    rows_.clear();
+    sources_.clear();
+    weights_.clear();
+  }
+  LevelRows::Row operator[](std::size_t i) const {
+    const Kept& r = rows_[i];
+    return {r.scale, std::span(sources_).subspan(r.first, r.arity), std::span(weights_).subspan(r.first, r.arity)};
+  }
+
+ private:
+  void add(double scale, const double* w, const std::uint32_t* sources, std::size_t arity) {
+    rows_.push_back({scale, sources_.size(), arity});
+    sources_.insert(sources_.end(), sources, sources + arity);
+    weights_.insert(weights_.end(), w, w + arity);
+  }
+  struct Kept {
+    double scale;
+    std::size_t first, arity;
+  };
+  std::vector<Kept> rows_;
+  std::vector<std::uint32_t> sources_;
+  std::vector<double> weights_;
+};
+
 /// Takes rows as StepWriter takes them and adds each source's weight to its column sum, row
 /// after row and in row order, as add_column_sums() reads a table's.
 class ColumnSumRows : public RowPatterns {
@@ -954,19 +1023,25 @@ LiftingStep RefinedPredictRows::step() const {
 
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme) { return RefinedPredictRows(coarse, scheme).step(); }
 
-void RefinedPredictRows::synthesize(std::uint32_t block_rows, double* x, int channels,
-                                    const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
-                                    bool concurrent) const {
-  const TriangleTopology& coarse = shared_->coarse;
+namespace {
+
+/// The refined rows of `shared` applied to x through Sink<C> (SynthesisRows or AnalysisRows): the
+/// halves of the coarse edges, then the inner edges of the coarse faces, a chunk of about
+/// `block_rows` rows at a time, each chunk's targets handed to before_odd first; with
+/// `concurrent` the second half of the edges and of the faces on a thread of their own.
+template <template <int> class Sink>
+void apply_refined_rows(const RefinedPredictRows::Shared& shared, std::uint32_t block_rows, double* x, int channels,
+                        const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) {
+  const TriangleTopology& coarse = shared.coarse;
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
   const std::uint32_t first_odd = coarse.vertex_count + E;
-  with_refined_rows(*shared_, [&](auto make_rows) {
+  with_refined_rows(shared, [&](auto make_rows) {
     // The halves of coarse edges [e0, e1), then the inner edges of coarse faces [f0, f1), a
     // chunk of about block_rows rows at a time, each chunk's targets handed to before_odd first.
     auto part = [&](std::uint32_t e0, std::uint32_t e1, std::uint32_t f0, std::uint32_t f1) {
       auto rows = make_rows();
       auto run = [&]<int C>() {
-        SynthesisRows<C> sink(x, channels);
+        Sink<C> sink(x, channels);
         auto chunks = [&](std::uint32_t first, std::uint32_t last, std::uint32_t rows_per_item, std::uint32_t first_target,
                           auto&& write) {
           const std::uint32_t items = std::max<std::uint32_t>(1, block_rows / rows_per_item);
@@ -989,6 +1064,18 @@ void RefinedPredictRows::synthesize(std::uint32_t block_rows, double* x, int cha
     };
     in_halves(concurrent, E, F, part);
   });
+}
+
+}  // namespace
+
+void RefinedPredictRows::synthesize(std::uint32_t block_rows, double* x, int channels,
+                                    const std::function<void(std::uint32_t, std::uint32_t)>& before_odd,
+                                    bool concurrent) const {
+  apply_refined_rows<SynthesisRows>(*shared_, block_rows, x, channels, before_odd, concurrent);
+}
+
+void RefinedPredictRows::analyze(std::uint32_t block_rows, double* x, int channels, bool concurrent) const {
+  apply_refined_rows<AnalysisRows>(*shared_, block_rows, x, channels, {}, concurrent);
 }
 
 void RefinedPredictRows::add_column_sums(std::span<double> column_sum) const {
@@ -1068,6 +1155,159 @@ LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep&
         return step.pattern(1.0, weights);
       });
   return step.finish();
+}
+
+/// LevelRows' state: at the base its tables and where each row sits in them; above it what the
+/// rules read (for linear and butterfly the level below, as RefinedPredictRows reads it) and the
+/// rows kept by the last call.
+struct LevelRows::Impl {
+  Impl(const SemiRegularHierarchy& h, WaveletOptions o, int l, const VertexEdges& e, std::span<const double> w)
+      : options(o), level(l), t(h.topology(l)), edges(e), update_weights(w), V(h.vertex_count(l)) {}
+
+  WaveletOptions options;
+  int level;
+  const TriangleTopology& t;
+  const VertexEdges& edges;
+  std::span<const double> update_weights;
+  std::uint32_t V;
+  std::vector<Step> steps;
+  // The base: its tables, and per step each row's pattern and first index.
+  std::optional<WaveletTransform> tables;
+  std::vector<std::vector<std::uint32_t>> row_pattern;
+  std::vector<std::vector<std::size_t>> row_index;
+  // Linear and butterfly above the base.
+  std::optional<RefinedPredictRows::Shared> refined;
+  std::optional<ButterflyRefinedRows> butterfly;
+  std::optional<LinearRefinedRows> linear;
+  CapturedRows captured;
+  // The row of the last call where it is written here.
+  std::vector<std::uint32_t> sources;
+  std::vector<double> weights;
+
+  // The rows of the refined predict step's item holding row r: the two halves of a coarse edge,
+  // or the three inner edges of a coarse face; returns r's place among them.
+  std::size_t refined_item(std::uint32_t r) {
+    captured.clear();
+    const auto E = static_cast<std::uint32_t>(refined->coarse.edge_count());
+    auto rows = [&](auto& reader) {
+      if (r < 2 * E) {
+        reader.halves(captured, r / 2, r / 2 + 1);
+        return std::size_t{r % 2};
+      }
+      reader.inner(captured, (r - 2 * E) / 3, (r - 2 * E) / 3 + 1);
+      return std::size_t{(r - 2 * E) % 3};
+    };
+    return butterfly ? rows(*butterfly) : rows(*linear);
+  }
+  // v's incident edges in increasing order (all, or only its boundary edges if `boundary_only`
+  // and it has some), as sources V + e: the sources of loop_update() and mean_preserving_update().
+  void vertex_sources(std::uint32_t v, bool boundary_only) {
+    sources.clear();
+    const bool only_boundary = boundary_only && edges.boundary[v];
+    for (std::uint32_t k = edges.offsets[v]; k < edges.offsets[v + 1]; ++k) {
+      const std::uint32_t e = edges.edges[k];
+      if (!only_boundary || t.is_boundary_edge(e)) sources.push_back(V + e);
+    }
+  }
+  Row written(double scale) { return {scale, sources, weights}; }
+};
+
+LevelRows::LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const VertexEdges& edges,
+                     std::span<const double> update_weights)
+    : impl_(std::make_unique<Impl>(hierarchy, options, level, edges, update_weights)) {
+  Impl& m = *impl_;
+  const auto E = static_cast<std::uint32_t>(m.t.edge_count());
+  if (level == 0) {
+    m.tables.emplace(hierarchy, options, 0, 1);
+    for (const LiftingStep& step : m.tables->steps(0)) {
+      m.steps.push_back({step.first_target, step.row_count});
+      std::vector<std::uint32_t>& pattern = m.row_pattern.emplace_back();
+      std::vector<std::size_t>& index = m.row_index.emplace_back();
+      std::size_t at = 0;
+      for (const LiftingStep::Run& run : step.runs)
+        for (std::uint32_t r = 0; r < run.rows; ++r, at += step.patterns[run.pattern].arity) {
+          pattern.push_back(run.pattern);
+          index.push_back(at);
+        }
+    }
+    return;
+  }
+  const Step predict{m.V, E}, update{0, m.V};
+  if (options.scheme == Scheme::loop) {
+    m.steps = {predict, update};
+    return;
+  }
+  m.refined.emplace(RefinedPredictRows::Shared{hierarchy.topology(level - 1), options.scheme, std::nullopt});
+  if (options.scheme == Scheme::butterfly) {
+    m.refined->butterfly.emplace(m.refined->coarse);
+    m.butterfly.emplace(*m.refined->butterfly);
+  } else {
+    m.linear.emplace(LinearRefinedRows{m.refined->coarse});
+  }
+  if (options.mean_preserving_update) {
+    if (update_weights.size() != m.V) throw std::invalid_argument("LevelRows: the update's weights are not the level's vertices");
+    m.steps = {update, predict};
+  } else {
+    m.steps = {predict};
+  }
+}
+
+LevelRows::~LevelRows() = default;
+
+const std::vector<LevelRows::Step>& LevelRows::steps() const { return impl_->steps; }
+
+LevelRows::Row LevelRows::row(std::size_t step, std::uint32_t target) {
+  Impl& m = *impl_;
+  const std::uint32_t r = target - m.steps[step].first_target;
+  if (m.tables) {
+    const LiftingStep& s = m.tables->steps(0)[step];
+    const LiftingStep::Pattern& p = s.patterns[m.row_pattern[step][r]];
+    return {p.scale, std::span(s.indices).subspan(m.row_index[step][r], p.arity),
+            std::span(s.pattern_weights).subspan(p.first_weight, p.arity)};
+  }
+  const bool is_predict = m.steps[step].first_target == m.V;
+  if (m.options.scheme == Scheme::loop) {
+    if (is_predict) {
+      // predict(t, Scheme::loop): midpoint on a boundary edge, else 3/8 (a + b) + 1/8 (c + d), a
+      // pillow's c == d merged into one source of 1/4 (loop_edge_row).
+      const std::uint32_t a = m.t.edge_vertices[2 * r], b = m.t.edge_vertices[2 * r + 1];
+      if (m.t.is_boundary_edge(r)) {
+        m.sources = {a, b};
+        m.weights = {0.5, 0.5};
+        return m.written(1.0);
+      }
+      const std::uint32_t c = opposite(m.t, m.t.edge_faces[2 * r], r), d = opposite(m.t, m.t.edge_faces[2 * r + 1], r);
+      if (c != d) {
+        m.sources = {a, b, c, d};
+        m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
+      } else {
+        m.sources = {a, b, c};
+        m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8 + 1.0 / 8};
+      }
+      return m.written(1.0);
+    }
+    // loop_update(t): the odd vertices on the target's edges (on a boundary its boundary edges'),
+    // with LoopUpdatePatterns' weights.
+    m.vertex_sources(target, true);
+    const auto n = static_cast<std::uint32_t>(m.sources.size());
+    if (n == 0) {
+      m.weights.clear();
+      return m.written(1.0);
+    }
+    if (m.edges.boundary[target]) {
+      m.weights.assign(n, 0.25);
+      return m.written(0.5);
+    }
+    const double w = 8.0 * loop_beta(n) / 5.0;
+    m.weights.assign(n, w);
+    return m.written(1.0 - n * w);
+  }
+  if (is_predict) return m.captured[m.refined_item(r)];
+  // mean_preserving_update(t, predict): the odd vertices on all the target's edges, each weighted
+  // by its -lambda.
+  m.vertex_sources(target, false);
+  m.weights.assign(m.sources.size(), m.update_weights[target]);
+  return m.written(1.0);
 }
 
 }  // namespace meshlift::stencils

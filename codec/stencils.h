@@ -47,6 +47,10 @@ class RefinedPredictRows {
   /// thread of its own (before_odd then called from two threads at once, with disjoint targets).
   void synthesize(std::uint32_t block_rows, double* x, int channels,
                   const std::function<void(std::uint32_t, std::uint32_t)>& before_odd, bool concurrent) const;
+  /// Their analysis (the inverse, each row as lifting.cpp's analyze_run computes a table row: the
+  /// sources in row order summed from zero, subtracted from the target, divided by the scale),
+  /// with no table, the same chunks and halves as synthesize(): the same bits as the table's.
+  void analyze(std::uint32_t block_rows, double* x, int channels, bool concurrent) const;
   /// Adds the weights of every row to `column_sum` (indexed by source vertex), as
   /// add_column_sums() adds a table's, with no table: the same bits. \pre column_sum covers the
   /// rows' sources, the coarse level's vertices and edge midpoints.
@@ -61,6 +65,47 @@ class RefinedPredictRows {
 };
 /// The same rows as one step: RefinedPredictRows(coarse, scheme).step().
 LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
+
+/// The rows of the lifting steps of level `level` -> `level` + 1 (WaveletTransform's steps(level),
+/// in synthesis order) read one at a time by target, without the steps' tables (18 to 36 bytes
+/// per vertex of level + 1): for a caller that visits a few rows of each level, as the encoder's
+/// level weights follow an impulse's support. Each row is its table row: the same scale, the
+/// same sources in the same order, the same weights. At the base they are read off its tables
+/// (small); above it Loop's off the level's own topology and incident edges (the rules of
+/// predict() and loop_update(), which loop_predict_refined and loop_update_refined reproduce),
+/// linear's and butterfly's predict rows off the level below (RefinedPredictRows' rules), and
+/// the mean-preserving update's off the incident edges with the weights given.
+class LevelRows {
+ public:
+  /// `edges` is VertexEdges(hierarchy.topology(level)) and must outlive this; `update_weights`
+  /// is update_weights(hierarchy, options.scheme, level) where linear or butterfly have the
+  /// mean-preserving update above the base (else not read).
+  LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const VertexEdges& edges,
+            std::span<const double> update_weights = {});
+  ~LevelRows();
+  LevelRows(const LevelRows&) = delete;
+  LevelRows& operator=(const LevelRows&) = delete;
+
+  /// A step's rows are those of targets first_target .. first_target + rows - 1.
+  struct Step {
+    std::uint32_t first_target = 0;
+    std::uint32_t rows = 0;
+  };
+  const std::vector<Step>& steps() const;
+  /// In synthesis x[t] = scale * x[t] + sum_k weights[k] * x[sources[k]].
+  struct Row {
+    double scale = 1.0;
+    std::span<const std::uint32_t> sources;
+    std::span<const double> weights;
+  };
+  /// Step `step`'s row of `target`; valid until the next call.
+  Row row(std::size_t step, std::uint32_t target);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Loop's vertex rule written over the odd vertices (CODEC-NOTES §3): one row per even vertex,
 /// synthesis even' = s_n even + w_n sum(adjacent odd); boundary even' = even/2 + (odd_l + odd_r)/4.

@@ -143,6 +143,19 @@ void synthesize_level(const SemiRegularHierarchy& hierarchy, WaveletOptions opti
                       int channels, const std::function<void(std::uint32_t first, std::uint32_t count)>& before_odd,
                       bool concurrent = false, std::span<const double> update_weights = {});
 
+/// Analysis of level `level` + 1 -> `level` alone, the inverse of synthesize_level(): the bits of
+/// the tables' analysis of that level (WaveletTransform::analyze runs the levels from the finest
+/// down), without the tables above the base, as synthesize_level() reads its rows (Loop: the
+/// update's rows a block at a time, then the predict rows straight off the coarse faces; linear
+/// and butterfly: the predict rows as they are read off the level below, then the
+/// mean-preserving update as a scatter over the level's edges into a buffer of the level's
+/// values). The base builds its tables (small). For an encoder that needs no tables afterwards.
+/// `concurrent`: each large step's rows in two halves on two threads (the same bits).
+/// `update_weights`: as for synthesize_level (computed here if empty; ignored without the update).
+/// \pre 0 <= level < hierarchy.levels(); values hold vertex_count(level + 1) * channels doubles.
+void analyze_level(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, std::span<double> values,
+                   int channels = 3, bool concurrent = false, std::span<const double> update_weights = {});
+
 /// The mean-preserving update's weight in the row of each vertex of level `level` (below
 /// vertex_count(level)), for linear or butterfly: -lambda_v, lambda_v = 1 / (2 (1 + c_v)) with c_v
 /// the sum of v's weights in the level's predict rows (docs/WAVELETS.md; seed 003 eq. 5.9): the

@@ -1,0 +1,115 @@
+// The encoder without the transform's tables (issue 3's encode speed): analyze_level() against
+// the tables' analysis, and stencils::LevelRows (rows read one at a time by target) against the
+// tables' rows, over bases with extraordinary vertices, boundaries and a two-face pillow.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "../../codec/stencils.h"
+#include "lifting_rows.h"
+#include "meshlift/lifting.h"
+#include "test_meshes.h"
+
+using namespace meshlift;
+
+namespace {
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+TriangleTopology topology_of(const TriangleMesh& m) {
+  return TriangleTopology::build(static_cast<std::uint32_t>(m.vertex_count()), m.triangles);
+}
+
+std::vector<TriangleMesh> bases() {
+  const TriangleMesh pillow{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1}};
+  const TriangleMesh open_fan{{0, 0, 0, 1, 0, 0, 0.5, 0.8, 0, -0.5, 0.8, 0, -1, 0, 0, -0.5, -0.8, 0, 0.5, -0.8, 0},
+                              {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6}};
+  return {test::icosahedron(), test::grid(4), test::disk(5), test::bicone(3), test::bicone(4), test::torus(), pillow, open_fan};
+}
+
+}  // namespace
+
+TEST_CASE("analyze_level is the tables' analysis level by level, bit for bit, without the tables", "[lifting]") {
+  constexpr int L = 3;
+  for (const TriangleMesh& base : bases()) {
+    const SemiRegularHierarchy h(topology_of(base), L);
+    for (const Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop})
+      for (const bool update : {false, true}) {
+        const WaveletOptions options{scheme, update};
+        const WaveletTransform tables(h, options);
+        for (const int channels : {1, 3, 4})
+          for (const bool concurrent : {false, true}) {
+            const std::vector<double> input = test::random_values(std::size_t{h.vertex_count(L)} * channels, 7);
+            std::vector<double> expected = input, level_by_level = input, weights_given = input;
+            tables.analyze(expected, channels);
+            for (int j = L - 1; j >= 0; --j) {
+              analyze_level(h, options, j, level_by_level, channels, concurrent);
+              // The update's weights handed over, as the encoder makes them once for both directions.
+              std::vector<double> weights;
+              if (update && scheme != Scheme::loop) weights = update_weights(h, scheme, j);
+              analyze_level(h, options, j, weights_given, channels, concurrent, weights);
+            }
+            INFO(to_string(scheme) << (update ? " with the update" : "") << ", " << h.vertex_count(0)
+                                   << " base vertices, " << channels << " channels" << (concurrent ? ", two threads" : ""));
+            REQUIRE(same_bits(level_by_level, expected));
+            REQUIRE(same_bits(weights_given, expected));
+            // And it is the inverse of synthesize_level, to rounding (amplified by the pillow's
+            // valence-2 vertices under Loop).
+            for (int j = 0; j < L; ++j) synthesize_level(h, options, j, level_by_level, channels);
+            for (std::size_t i = 0; i < input.size(); ++i) REQUIRE(std::abs(level_by_level[i] - input[i]) < 1e-9);
+          }
+      }
+    std::vector<double> values(std::size_t{h.vertex_count(L)} * 3);
+    CHECK_THROWS_AS(analyze_level(h, {}, L, values), std::invalid_argument);
+    CHECK_THROWS_AS(analyze_level(h, {}, -1, values), std::invalid_argument);
+    values.resize(values.size() - 1);
+    CHECK_THROWS_AS(analyze_level(h, {}, L - 1, values), std::invalid_argument);
+    std::vector<double> enough(std::size_t{h.vertex_count(L)} * 3), short_weights(1);
+    CHECK_THROWS_AS(analyze_level(h, {Scheme::butterfly, true}, 1, enough, 3, false, short_weights), std::invalid_argument);
+  }
+}
+
+TEST_CASE("LevelRows reads every row of every step as its table holds it", "[lifting]") {
+  constexpr int L = 3;
+  for (const TriangleMesh& base : bases()) {
+    const SemiRegularHierarchy h(topology_of(base), L);
+    for (const Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop})
+      for (const bool update : {false, true}) {
+        const WaveletOptions options{scheme, update};
+        const WaveletTransform tables(h, options);
+        for (int j = 0; j < L; ++j) {
+          const VertexEdges edges(h.topology(j));
+          std::vector<double> weights;
+          if (update && scheme != Scheme::loop && j > 0) weights = update_weights(h, scheme, j);
+          stencils::LevelRows rows(h, options, j, edges, weights);
+          const std::vector<LiftingStep>& steps = tables.steps(j);
+          INFO(to_string(scheme) << (update ? " with the update" : "") << ", " << h.vertex_count(0) << " base vertices, level "
+                                 << j);
+          REQUIRE(rows.steps().size() == steps.size());
+          for (std::size_t s = 0; s < steps.size(); ++s) {
+            REQUIRE(rows.steps()[s].first_target == steps[s].first_target);
+            REQUIRE(rows.steps()[s].rows == steps[s].row_count);
+            // Rows read in an order other than the table's (last first), as the encoder reads a few.
+            const std::vector<std::vector<double>> expected = test::expand_rows(steps[s]);
+            for (std::size_t k = expected.size(); k-- > 0;) {
+              const auto target = static_cast<std::uint32_t>(expected[k][0]);
+              const stencils::LevelRows::Row row = rows.row(s, target);
+              std::vector<double> read{static_cast<double>(target), row.scale};
+              REQUIRE(row.sources.size() == row.weights.size());
+              for (std::size_t i = 0; i < row.sources.size(); ++i) {
+                read.push_back(row.sources[i]);
+                read.push_back(row.weights[i]);
+              }
+              REQUIRE(read.size() == expected[k].size());
+              REQUIRE(std::memcmp(read.data(), expected[k].data(), read.size() * sizeof(double)) == 0);
+            }
+          }
+        }
+      }
+  }
+}
