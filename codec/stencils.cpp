@@ -857,14 +857,16 @@ class RowPatterns {
 };
 
 /// Takes rows as StepWriter takes them (the rules above write to either) and applies each at once
-/// to x (`channels` values per vertex; C of them where C > 0): its synthesis exactly as
-/// lifting.cpp's synthesize_run computes a table row, the target times the row's scale first,
-/// then each source times its weight in row order. The rows' targets are consecutive from the
-/// one seek() names.
-template <int C>
-class SynthesisRows : public RowPatterns {
+/// to x (`channels` values per vertex; C of them where C > 0), exactly as lifting.cpp computes a
+/// table row: in synthesis (synthesize_run) the target times the row's scale first, then each
+/// source times its weight in row order; in analysis, the inverse (analyze_run), the sources
+/// times their weights summed from zero in row order, that sum subtracted from the target, the
+/// difference divided by the row's scale. The rows' targets are consecutive from the one seek()
+/// names.
+template <bool Synthesis, int C>
+class AppliedRows : public RowPatterns {
  public:
-  SynthesisRows(double* x, int channels) : x_(x), n_(C > 0 ? C : channels) {}
+  AppliedRows(double* x, int channels) : x_(x), n_(C > 0 ? C : channels) {}
   void seek(std::uint32_t target) { target_ = x_ + std::size_t{target} * static_cast<std::size_t>(n_); }
   template <std::size_t N>
   void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
@@ -878,12 +880,12 @@ class SynthesisRows : public RowPatterns {
   [[gnu::always_inline]] void apply(double scale, const double* w, const std::uint32_t* sources, std::size_t arity) {
     const int n = C > 0 ? C : n_;
     double acc[C > 0 ? C : 64];
-    for (int c = 0; c < n; ++c) acc[c] = scale * target_[c];
+    for (int c = 0; c < n; ++c) acc[c] = Synthesis ? scale * target_[c] : 0.0;
     for (std::size_t k = 0; k < arity; ++k) {
       const double* source = x_ + std::size_t{sources[k]} * static_cast<std::size_t>(n);
       for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
     }
-    for (int c = 0; c < n; ++c) target_[c] = acc[c];
+    for (int c = 0; c < n; ++c) target_[c] = Synthesis ? acc[c] : (target_[c] - acc[c]) / scale;
     target_ += n;
   }
 
@@ -891,39 +893,10 @@ class SynthesisRows : public RowPatterns {
   double* target_ = nullptr;
   int n_;
 };
-
-/// The same rows applied in analysis, the inverse, exactly as lifting.cpp's analyze_run computes a
-/// table row: the sources times their weights summed from zero in row order, that sum subtracted
-/// from the target, the difference divided by the row's scale.
 template <int C>
-class AnalysisRows : public RowPatterns {
- public:
-  AnalysisRows(double* x, int channels) : x_(x), n_(C > 0 ? C : channels) {}
-  void seek(std::uint32_t target) { target_ = x_ + std::size_t{target} * static_cast<std::size_t>(n_); }
-  template <std::size_t N>
-  void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
-    apply(patterns_[pattern].scale, patterns_[pattern].weights.data(), sources, N);
-  }
-  void row(const RowBuilder& builder, double scale = 1.0) {
-    apply(scale, builder.weights().data(), builder.sources().data(), builder.sources().size());
-  }
-
- private:
-  [[gnu::always_inline]] void apply(double scale, const double* w, const std::uint32_t* sources, std::size_t arity) {
-    const int n = C > 0 ? C : n_;
-    double acc[C > 0 ? C : 64] = {};
-    for (std::size_t k = 0; k < arity; ++k) {
-      const double* source = x_ + std::size_t{sources[k]} * static_cast<std::size_t>(n);
-      for (int c = 0; c < n; ++c) acc[c] += w[k] * source[c];
-    }
-    for (int c = 0; c < n; ++c) target_[c] = (target_[c] - acc[c]) / scale;
-    target_ += n;
-  }
-
-  double* x_;
-  double* target_ = nullptr;
-  int n_;
-};
+using SynthesisRows = AppliedRows<true, C>;
+template <int C>
+using AnalysisRows = AppliedRows<false, C>;
 
 /// Takes rows as StepWriter takes them and keeps them (scale, sources, weights), for a caller that
 /// reads a few rows one at a time (LevelRows).

@@ -15,6 +15,11 @@
 
 namespace meshlift::test {
 
+/// The connectivity of a triangle mesh, for tests that build hierarchies from procedural bases.
+inline TriangleTopology topology_of(const TriangleMesh& m) {
+  return TriangleTopology::build(static_cast<std::uint32_t>(m.vertex_count()), m.triangles);
+}
+
 /// The real-mesh corpus (libcgal-demo's data/meshes, fetched by scripts/corpus.sh): the directory
 /// in MESHLIFT_CORPUS. Fails the calling test with instructions when it is not set.
 inline std::filesystem::path corpus_directory() {

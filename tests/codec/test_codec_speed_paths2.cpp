@@ -30,11 +30,8 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-TriangleTopology topology_of(const TriangleMesh& m) {
-  return TriangleTopology::build(static_cast<std::uint32_t>(m.vertex_count()), m.triangles);
-}
-
 using test::expand_rows;
+using test::topology_of;
 
 /// The modified butterfly rule (CODEC-NOTES §2) for edge e, source by source as the rule reads,
 /// repeated sources merged in first-seen order (weights summed): target, 1, then (source,

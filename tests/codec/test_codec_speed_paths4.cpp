@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../../codec/stencils.h"
+#include "decode_results.h"
 #include "lifting_rows.h"
 #include "meshlift/lifting.h"
 #include "test_meshes.h"
@@ -17,13 +18,8 @@ using namespace meshlift;
 
 namespace {
 
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-}
-
-TriangleTopology topology_of(const TriangleMesh& m) {
-  return TriangleTopology::build(static_cast<std::uint32_t>(m.vertex_count()), m.triangles);
-}
+using test::same_bits;
+using test::topology_of;
 
 std::vector<TriangleMesh> bases() {
   const TriangleMesh pillow{{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1}};
