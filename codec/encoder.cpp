@@ -45,19 +45,20 @@ constexpr std::size_t kCoefficientChunkBytes = 64 * 1024;
 /// boundary neighbours), so the rows to compute are those of the edges at the live vertices and
 /// at their neighbours; an update row's sources are the odd vertices on its vertex's edges, so
 /// those are the endpoints of live odd vertices' edges and the live even vertices themselves.
-/// `buffer` holds at least vertex_count(L) zeros and is left holding zeros; `edges` holds the
-/// incident edges of levels 0 to L - 1 (level_edges), `update` each level's mean-preserving update
-/// weights (update_weights(); empty for Loop or without the update). The rows come from
-/// stencils::LevelRows, one at a time, each as its table holds it: no table is built above the base.
+/// `buffer` holds at least vertex_count(L) zeros and is left holding zeros; `update` each level's
+/// mean-preserving update weights (update_weights(); empty for Loop or without the update). The
+/// rows and the incident edges come from stencils::LevelRows, one at a time, each row as its
+/// table holds it: no table is built above the base, no level but the base lists its edges.
 std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions wavelet, std::span<double> buffer,
-                                  const std::vector<VertexEdges>& edges, const std::vector<std::vector<double>>& update) {
+                                  const std::vector<std::vector<double>>& update) {
   const int L = h.levels();
   std::vector<double> weights(static_cast<std::size_t>(L) + 1);
   std::vector<std::unique_ptr<stencils::LevelRows>> level_rows;
   std::size_t most_rows = 0;
   for (int i = 0; i < L; ++i) {
     const auto level = static_cast<std::size_t>(i);
-    level_rows.push_back(std::make_unique<stencils::LevelRows>(h, wavelet, i, edges[level], update[level]));
+    level_rows.push_back(
+        std::make_unique<stencils::LevelRows>(h, wavelet, i, i > 0 ? level_rows.back().get() : nullptr, update[level]));
     for (const stencils::LevelRows::Step& step : level_rows.back()->steps())
       most_rows = std::max<std::size_t>(most_rows, step.rows);
   }
@@ -67,7 +68,7 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
   assign_large(is_live, V_L);
   assign_large(is_near, V_L);
   assign_large(is_candidate, most_rows);
-  std::vector<std::uint32_t> live, near, candidates;
+  std::vector<std::uint32_t> live, near, candidates, incident;
   auto make_live = [&](std::uint32_t v) {
     if (!is_live[v]) is_live[v] = 1, live.push_back(v);
   };
@@ -115,7 +116,6 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
     x[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
     make_live(begin + (h.vertex_count(j) - begin) / 2);
     for (int i = std::max(0, j - 1); i < L; ++i) {
-      const VertexEdges& ve = edges[static_cast<std::size_t>(i)];
       const TriangleTopology& t = h.topology(i);
       const std::uint32_t V = h.vertex_count(i), fine_V = h.vertex_count(i + 1);
       stencils::LevelRows& rows = *level_rows[static_cast<std::size_t>(i)];
@@ -136,14 +136,14 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
               continue;
             }
             make_near(u);
-            for (std::uint32_t a = ve.offsets[u]; a < ve.offsets[u + 1]; ++a) {
-              const std::uint32_t e = ve.edges[a];
+            rows.incident_edges(u, incident);
+            for (const std::uint32_t e : incident)
               make_near(t.edge_vertices[2 * e] == u ? t.edge_vertices[2 * e + 1] : t.edge_vertices[2 * e]);
-            }
           }
           for (const std::uint32_t w : near) {
             is_near[w] = 0;
-            for (std::uint32_t b = ve.offsets[w]; b < ve.offsets[w + 1]; ++b) candidate(V + ve.edges[b]);
+            rows.incident_edges(w, incident);
+            for (const std::uint32_t e : incident) candidate(V + e);
           }
           near.clear();
         } else {  // update: targets are the even vertices
@@ -178,12 +178,6 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
   return weights;
 }
 
-/// The incident edges of each level below the finest, which level_weights walks.
-std::vector<VertexEdges> level_edges(const SemiRegularHierarchy& h) {
-  std::vector<VertexEdges> edges;
-  for (int i = 0; i < h.levels(); ++i) edges.emplace_back(h.topology(i));
-  return edges;
-}
 
 }  // namespace
 
@@ -254,21 +248,20 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   std::vector<std::vector<double>> update(static_cast<std::size_t>(L));
   // No transform tables (18 to 36 bytes per vertex, and their build on the critical path): the
   // values are analyzed a level at a time as the decoder synthesizes them (analyze_level), and
-  // the level weights read the few rows they follow one at a time (stencils::LevelRows). On one
-  // side those weights, after what they walk: the levels' incident edges and the impulses' buffer
-  // of zeros, resident before the base vertex's whole synthesis writes it (large_array.h: one
-  // system call for the pages instead of a fault each). On the other the values gathered,
-  // analyzed, and the quantized records' pages made resident (every record is written below).
+  // the level weights read the few rows and incident edges they follow one at a time
+  // (stencils::LevelRows). On one side those weights, into a buffer of zeros made resident before
+  // the base vertex's whole synthesis writes it (large_array.h: one system call for the pages
+  // instead of a fault each). On the other the values gathered, analyzed, and the quantized
+  // records' pages made resident (every record is written below).
   zerotree::Quantized q;
   q.components = K;
   std::optional<zerotree::Forest> forest;
   run_both(concurrent, [&] {
     if (wavelet.mean_preserving_update)
       for (int j = 0; j < L; ++j) update[static_cast<std::size_t>(j)] = update_weights(h, wavelet.scheme, j);
-    const std::vector<VertexEdges> edges = level_edges(h);
     std::vector<double> impulses;
     assign_large(impulses, V, 0.0);
-    header.level_weights = level_weights(h, wavelet, impulses, edges, update);
+    header.level_weights = level_weights(h, wavelet, impulses, update);
     for (double& weight : header.level_weights) weight = header_float(weight, "level weight", true);
   }, [&] {
     // Each value's extremes over all vertices (the bounding box and the channels' ranges), and

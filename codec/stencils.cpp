@@ -1134,13 +1134,23 @@ LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep&
 /// rules read (for linear and butterfly the level below, as RefinedPredictRows reads it) and the
 /// rows kept by the last call.
 struct LevelRows::Impl {
-  Impl(const SemiRegularHierarchy& h, WaveletOptions o, int l, const VertexEdges& e, std::span<const double> w)
-      : options(o), level(l), t(h.topology(l)), edges(e), update_weights(w), V(h.vertex_count(l)) {}
+  Impl(const SemiRegularHierarchy& h, WaveletOptions o, int l, const LevelRows* b, std::span<const double> w)
+      : options(o), level(l), t(h.topology(l)), below(b), update_weights(w), V(h.vertex_count(l)) {
+    if (l == 0)
+      base_edges.emplace(t);
+    else if (b == nullptr)
+      throw std::invalid_argument("LevelRows: a level above the base needs the level below");
+    else
+      coarse = &h.topology(l - 1);
+  }
 
   WaveletOptions options;
   int level;
   const TriangleTopology& t;
-  const VertexEdges& edges;
+  const LevelRows* below;
+  const TriangleTopology* coarse = nullptr;   // above the base: the level below
+  std::optional<VertexEdges> base_edges;      // at the base
+  mutable std::vector<std::uint32_t> below_edges;  // incident_edges()' of the level below
   std::span<const double> update_weights;
   std::uint32_t V;
   std::vector<Step> steps;
@@ -1174,20 +1184,55 @@ struct LevelRows::Impl {
   }
   // v's incident edges in increasing order (all, or only its boundary edges if `boundary_only`
   // and it has some), as sources V + e: the sources of loop_update() and mean_preserving_update().
-  void vertex_sources(std::uint32_t v, bool boundary_only) {
+  // Returns whether v is on a boundary.
+  bool vertex_sources(std::uint32_t v, bool boundary_only) {
+    const bool boundary = below_edges_of(v, incident_scratch);
     sources.clear();
-    const bool only_boundary = boundary_only && edges.boundary[v];
-    for (std::uint32_t k = edges.offsets[v]; k < edges.offsets[v + 1]; ++k) {
-      const std::uint32_t e = edges.edges[k];
-      if (!only_boundary || t.is_boundary_edge(e)) sources.push_back(V + e);
-    }
+    for (const std::uint32_t e : incident_scratch)
+      if (!(boundary_only && boundary) || t.is_boundary_edge(e)) sources.push_back(V + e);
+    return boundary;
   }
+  bool below_edges_of(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+  std::vector<std::uint32_t> incident_scratch;
   Row written(double scale) { return {scale, sources, weights}; }
 };
 
-LevelRows::LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const VertexEdges& edges,
+bool LevelRows::Impl::below_edges_of(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  if (base_edges) {
+    out.assign(base_edges->edges.begin() + base_edges->offsets[v], base_edges->edges.begin() + base_edges->offsets[v + 1]);
+    return base_edges->boundary[v] != 0;
+  }
+  const std::uint32_t Vc = coarse->vertex_count;
+  if (v < Vc) {
+    const bool boundary = below->incident_edges(v, below_edges);
+    for (const std::uint32_t e : below_edges) out.push_back(2 * e + (coarse->edge_vertices[2 * std::size_t{e}] == v ? 0 : 1));
+    return boundary;
+  }
+  // The midpoint of coarse edge e: its halves, then in each face of e (lower index first) the
+  // inner edges at it: of face f with e as its edge i, inner edges i + 1 and i + 2 (inner edge k
+  // joins the midpoints of edges k + 2 and k + 1), in increasing order.
+  const std::uint32_t e = v - Vc, Ec = static_cast<std::uint32_t>(coarse->edge_count());
+  out.push_back(2 * e);
+  out.push_back(2 * e + 1);
+  std::uint32_t f0 = coarse->edge_faces[2 * std::size_t{e}], f1 = coarse->edge_faces[2 * std::size_t{e} + 1];
+  if (f1 != kNone && f1 < f0) std::swap(f0, f1);
+  for (const std::uint32_t f : {f0, f1}) {
+    if (f == kNone) continue;
+    const std::uint32_t i = edge_in_face(*coarse, f, e), inner = 2 * Ec + 3 * f;
+    out.push_back(inner + (i == 0 ? 1 : 0));
+    out.push_back(inner + (i == 2 ? 1 : 2));
+  }
+  return f1 == kNone;
+}
+
+bool LevelRows::incident_edges(std::uint32_t v, std::vector<std::uint32_t>& edges) const {
+  return impl_->below_edges_of(v, edges);
+}
+
+LevelRows::LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const LevelRows* below,
                      std::span<const double> update_weights)
-    : impl_(std::make_unique<Impl>(hierarchy, options, level, edges, update_weights)) {
+    : impl_(std::make_unique<Impl>(hierarchy, options, level, below, update_weights)) {
   Impl& m = *impl_;
   const auto E = static_cast<std::uint32_t>(m.t.edge_count());
   if (level == 0) {
@@ -1261,13 +1306,13 @@ LevelRows::Row LevelRows::row(std::size_t step, std::uint32_t target) {
     }
     // loop_update(t): the odd vertices on the target's edges (on a boundary its boundary edges'),
     // with LoopUpdatePatterns' weights.
-    m.vertex_sources(target, true);
+    const bool boundary = m.vertex_sources(target, true);
     const auto n = static_cast<std::uint32_t>(m.sources.size());
     if (n == 0) {
       m.weights.clear();
       return m.written(1.0);
     }
-    if (m.edges.boundary[target]) {
+    if (boundary) {
       m.weights.assign(n, 0.25);
       return m.written(0.5);
     }

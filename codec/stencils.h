@@ -77,10 +77,12 @@ LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
 /// the mean-preserving update's off the incident edges with the weights given.
 class LevelRows {
  public:
-  /// `edges` is VertexEdges(hierarchy.topology(level)) and must outlive this; `update_weights`
-  /// is update_weights(hierarchy, options.scheme, level) where linear or butterfly have the
+  /// `below` is level - 1's (nullptr at the base) and must outlive this: above the base a
+  /// vertex's incident edges are read off it (incident_edges()), so that no level but the base
+  /// lists them (VertexEdges, ~30 bytes per vertex). `update_weights` is
+  /// update_weights(hierarchy, options.scheme, level) where linear or butterfly have the
   /// mean-preserving update above the base (else not read).
-  LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const VertexEdges& edges,
+  LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const LevelRows* below,
             std::span<const double> update_weights = {});
   ~LevelRows();
   LevelRows(const LevelRows&) = delete;
@@ -100,6 +102,13 @@ class LevelRows {
   };
   /// Step `step`'s row of `target`; valid until the next call.
   Row row(std::size_t step, std::uint32_t target);
+  /// The edges of the level at vertex v in increasing order, as VertexEdges lists them, into
+  /// `edges` (replaced); returns whether v is on a boundary. Above the base by the 1:4 rule of
+  /// TriangleTopology::refined(): a vertex of the level below has the halves at it of its edges
+  /// there (2e at the first endpoint, 2e + 1 at the second); the midpoint of edge e of the level
+  /// below has the halves 2e, 2e + 1, then in each face of e (the lower index first) the two
+  /// inner edges at it; it is on a boundary if e is.
+  bool incident_edges(std::uint32_t v, std::vector<std::uint32_t>& edges) const;
 
   struct Impl;
 

@@ -1,9 +1,10 @@
 // The encoder without the transform's tables (issue 3's encode speed): analyze_level() against
 // the tables' analysis, and stencils::LevelRows (rows read one at a time by target) against the
-// tables' rows, over bases with extraordinary vertices, boundaries and a two-face pillow.
+// tables' rows and the levels' own incident edges, over bases with extraordinary vertices, boundaries and a two-face pillow.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -70,7 +71,7 @@ TEST_CASE("analyze_level is the tables' analysis level by level, bit for bit, wi
   }
 }
 
-TEST_CASE("LevelRows reads every row of every step as its table holds it", "[lifting]") {
+TEST_CASE("LevelRows reads every row of every step as its table holds it, and the incident edges", "[lifting]") {
   constexpr int L = 3;
   for (const TriangleMesh& base : bases()) {
     const SemiRegularHierarchy h(topology_of(base), L);
@@ -78,14 +79,24 @@ TEST_CASE("LevelRows reads every row of every step as its table holds it", "[lif
       for (const bool update : {false, true}) {
         const WaveletOptions options{scheme, update};
         const WaveletTransform tables(h, options);
+        std::vector<std::vector<double>> weights(L);
+        std::vector<std::unique_ptr<stencils::LevelRows>> levels;
         for (int j = 0; j < L; ++j) {
-          const VertexEdges edges(h.topology(j));
-          std::vector<double> weights;
-          if (update && scheme != Scheme::loop && j > 0) weights = update_weights(h, scheme, j);
-          stencils::LevelRows rows(h, options, j, edges, weights);
+          if (update && scheme != Scheme::loop && j > 0) weights[j] = update_weights(h, scheme, j);
+          levels.push_back(std::make_unique<stencils::LevelRows>(h, options, j, j > 0 ? levels.back().get() : nullptr, weights[j]));
+          stencils::LevelRows& rows = *levels.back();
           const std::vector<LiftingStep>& steps = tables.steps(j);
           INFO(to_string(scheme) << (update ? " with the update" : "") << ", " << h.vertex_count(0) << " base vertices, level "
                                  << j);
+          // The incident edges derived from the level below are the level's own, in order.
+          const VertexEdges edges(h.topology(j));
+          std::vector<std::uint32_t> incident;
+          for (std::uint32_t v = 0; v < h.vertex_count(j); ++v) {
+            const bool boundary = rows.incident_edges(v, incident);
+            REQUIRE(incident == std::vector<std::uint32_t>(edges.edges.begin() + edges.offsets[v],
+                                                           edges.edges.begin() + edges.offsets[v + 1]));
+            REQUIRE(boundary == (edges.boundary[v] != 0));
+          }
           REQUIRE(rows.steps().size() == steps.size());
           for (std::size_t s = 0; s < steps.size(); ++s) {
             REQUIRE(rows.steps()[s].first_target == steps[s].first_target);
