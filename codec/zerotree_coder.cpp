@@ -195,9 +195,13 @@ constexpr std::size_t kPrefetchDistance = 16;
 //   significant D(v) that is only children, when no sibling was significant; and L(v) at the
 //   plane where D(v) was significant and no child was.
 // Returns false where the decoder's input ran out; `lists` then hold what was decoded.
+// Runs the passes of components [first_component, end_component) only (all of them by default),
+// calling io.begin_component(n, c) before each component's passes at plane n: the encoder runs
+// some components on one thread and the rest on another (encode()).
 template <class Io>
 bool run(const Forest& f, int components, int top, int base_plane, const std::int64_t* base_high, Io& caller_io,
-         std::vector<ComponentLists>& lists, Models& models) {
+         std::vector<ComponentLists>& lists, Models& models, int first_component = 0, int end_component = -1) {
+  if (end_component < 0) end_component = components;
   constexpr bool kEncoder = Io::kEncoder;
   // The passes work on a local Io, handed back on every exit: a local whose address does not
   // escape can live in registers (the decoder's range and code), where one behind a reference
@@ -246,7 +250,7 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
     if constexpr (kEncoder) return io.magnitude(v, c) >> base_plane;
     return base_high[std::size_t{v} * static_cast<std::size_t>(components) + static_cast<std::size_t>(c)];
   };
-  for (int c = 0; c < components; ++c) {
+  for (int c = first_component; c < end_component; ++c) {
     ComponentLists& l = lists[static_cast<std::size_t>(c)];
     std::uint8_t* const component_state = state_storage.get() + state_bytes * static_cast<std::size_t>(c);
     SignificantList& lsp = l.lsp;
@@ -282,11 +286,13 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
   }
   for (int n = top; n >= 0; --n) {
     io.begin_plane(n);
-    for (ComponentLists& l : lists) {
+    for (int c = first_component; c < end_component; ++c) {
+      ComponentLists& l = lists[static_cast<std::size_t>(c)];
       l.lsp.refine_count = l.lsp.size;
       l.lsp.refined = 0;
     }
-    for (int c = 0; c < components; ++c) {
+    for (int c = first_component; c < end_component; ++c) {
+      io.begin_component(n, c);
       ComponentLists& l = lists[static_cast<std::size_t>(c)];
       // The lists in locals for the passes (stores of bytes may alias anything in memory).
       std::uint32_t* const lip_vertex = l.lip_vertex.get();
@@ -455,18 +461,21 @@ bool run(const Forest& f, int components, int top, int base_plane, const std::in
 /// Bit width of x (0 for 0): x >> n != 0 exactly when bit_width(x) > n.
 std::uint8_t width(std::uint32_t x) { return static_cast<std::uint8_t>(std::bit_width(x)); }
 
-/// The decisions of the passes on their way to the range coder on another thread: a model's
-/// index in Models and the bit, in slots of kSlotSize that the writer fills and
-/// hands over one at a time (a single writer and a single reader; at most kSlots in flight).
+/// The decisions of some components' passes on their way to the thread that codes them: a
+/// model's index in Models and the bit, in slots of kSlotSize that the writer fills and hands
+/// over one at a time (a single writer and a single reader; at most kSlots in flight), and a
+/// marker where the writer begins a plane after the first, so that the reader can code one
+/// plane's decisions and then its own components' of that plane.
 class DecisionQueue {
  public:
   static constexpr std::size_t kSlots = 8, kSlotSize = std::size_t{1} << 15;  // 64 KiB a slot
-  static_assert(Models::kCount < (1u << 15), "a model's index and a bit fit 16 bits");
+  static_assert(Models::kCount < (1u << 15) - 1, "a model's index and a bit fit 16 bits, beside the marker");
+  static constexpr std::uint16_t kPlaneMarker = 0xffff;
 
   DecisionQueue() : decisions_(std::make_unique_for_overwrite<std::uint16_t[]>(kSlots * kSlotSize)) {}
 
   // Writer side. push() returns false once the reader has asked the writer to stop (seen when
-  // a slot is handed over): the decisions pushed are still coded.
+  // a slot is handed over).
   bool push(std::uint16_t decision) {
     slot_[size_++] = decision;
     if (size_ == kSlotSize) hand_over(false);
@@ -475,26 +484,50 @@ class DecisionQueue {
   /// The last slot, however full: the reader stops after it.
   void finish() { hand_over(true); }
 
-  /// Reader side: asks the writer to stop (it still reads every slot up to the last).
+  /// Reader side: asks the writer to stop (it still hands over every slot up to the last).
   void ask_to_stop() { stop_asked_.store(true, std::memory_order_relaxed); }
 
-  // Reader side: calls code(decision) for every decision in order, until the last slot.
+  /// Reader side: calls code(decision) for every decision in order up to the next plane marker
+  /// (returns true) or the end of the last slot (returns false, and at once on later calls).
   template <class Code>
-  void read(Code&& code) {
-    for (std::uint64_t n = 0;; ++n) {
-      std::uint64_t ready;
-      while ((ready = written_.load(std::memory_order_acquire)) <= n) written_.wait(ready, std::memory_order_acquire);
-      const std::uint32_t entry = sizes_[n % kSlots];
-      const std::uint16_t* d = decisions_.get() + (n % kSlots) * kSlotSize;
-      for (std::uint32_t i = 0, count = entry & ~kLast; i < count; ++i) code(d[i]);
-      read_.store(n + 1, std::memory_order_release);
+  bool read_plane(Code&& code) {
+    for (;;) {
+      if (reader_.count == kNoSlot) {
+        if (reader_.ended) return false;
+        std::uint64_t ready;
+        while ((ready = written_.load(std::memory_order_acquire)) <= reader_.slot)
+          written_.wait(ready, std::memory_order_acquire);
+        const std::uint32_t entry = sizes_[reader_.slot % kSlots];
+        reader_.count = entry & ~kLast;
+        reader_.last = (entry & kLast) != 0;
+        reader_.at = 0;
+        reader_.data = decisions_.get() + (reader_.slot % kSlots) * kSlotSize;
+      }
+      while (reader_.at < reader_.count) {
+        const std::uint16_t d = reader_.data[reader_.at++];
+        if (d == kPlaneMarker) return true;
+        code(d);
+      }
+      // The slot is done: hand it back.
+      read_.store(++reader_.slot, std::memory_order_release);
       read_.notify_one();
-      if (entry & kLast) return;
+      reader_.count = kNoSlot;
+      if (reader_.last) {
+        reader_.ended = true;
+        return false;
+      }
+    }
+  }
+  /// Reader side: reads to the end, dropping the decisions (once the reader's own passes have
+  /// stopped: the writer may be waiting for a free slot).
+  void drain() {
+    while (read_plane([](std::uint16_t) {})) {
     }
   }
 
  private:
   static constexpr std::uint32_t kLast = std::uint32_t{1} << 31;
+  static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
 
   void hand_over(bool last) {
     sizes_[slots_written_ % kSlots] = static_cast<std::uint32_t>(size_) | (last ? kLast : 0);
@@ -511,7 +544,7 @@ class DecisionQueue {
 
   std::unique_ptr<std::uint16_t[]> decisions_;
   std::uint32_t sizes_[kSlots] = {};
-  // The counters and the writer's own fields on cache lines of their own (the writer's change
+  // The counters and each side's own fields on cache lines of their own (the writer's change
   // with every push: a line the reader writes too would move between the cores each time).
   alignas(64) std::atomic<std::uint64_t> written_{0};  // slots handed over
   alignas(64) std::atomic<std::uint64_t> read_{0};     // slots coded
@@ -521,32 +554,42 @@ class DecisionQueue {
   std::size_t size_ = 0;
   std::uint64_t slots_written_ = 0;
   bool stop_ = false;  // stop_asked_ as of the last slot handed over
+  // The reader's own: the slot being read (count kNoSlot: none yet) and where in it.
+  alignas(64) struct {
+    std::uint64_t slot = 0;
+    const std::uint16_t* data = nullptr;
+    std::uint32_t count = kNoSlot, at = 0;
+    bool last = false, ended = false;
+  } reader_;
 };
 
 class EncoderIo {
  public:
   static constexpr bool kEncoder = true;
 
-  /// Reads and completes q's records (their widths), which the passes then read in place. Codes
-  /// every decision with `encoder`, or, given a queue, writes it there as the index of its model
-  /// among `models` (the passes' own) and its bit; with a queue (two threads) the widths of a
-  /// large level are filled in two halves side by side.
+  /// Reads q's records, which the passes read in place (fill_widths() completes them first).
+  /// Codes every decision with `encoder`, or, given a queue, writes it there as the index of its
+  /// model among `models` (the passes' own) and its bit.
   /// Stops (bit() returns -1, as a decoder's does at the end of its bytes) once `encoder` has
   /// emitted more than `stop_after` bytes, or, with a queue, once its reader asks.
-  EncoderIo(const Forest& f, Quantized& q, RangeEncoder& encoder, std::size_t stop_after,
-            DecisionQueue* queue = nullptr, Models* models = nullptr)
+  EncoderIo(Quantized& q, RangeEncoder& encoder, std::size_t stop_after, DecisionQueue* queue = nullptr,
+            const Models* models = nullptr)
       : coefficients_(q.coefficients.get()),
         encoder_(&encoder),
         stop_after_(stop_after),
         queue_(queue),
         models_(models),
-        k_(static_cast<std::size_t>(q.components)) {
+        k_(static_cast<std::size_t>(q.components)) {}
+  /// Completes q's records (their widths) for the passes; with `concurrent` the widths of a large
+  /// level are filled in two halves side by side.
+  void fill_widths(const Forest& f, bool concurrent) {
     if (k_ == kGeometryComponents)
-      fill_widths<kGeometryComponents>(f, queue != nullptr);
+      fill_widths<kGeometryComponents>(f, concurrent);
     else
-      fill_widths<0>(f, queue != nullptr);
+      fill_widths<0>(f, concurrent);
   }
   void begin_plane(int) {}
+  void begin_component(int, int) {}
   int bit(BitModel& m, bool value) {
     if (queue_ != nullptr) {
       if (!queue_->push(static_cast<std::uint16_t>(models_->index(m) << 1 | (value ? 1 : 0)))) return -1;
@@ -607,11 +650,58 @@ class EncoderIo {
   std::size_t index(std::uint32_t v, int c) const { return std::size_t{v} * k_ + static_cast<std::size_t>(c); }
   std::size_t index(std::uint32_t v, std::size_t c) const { return std::size_t{v} * k_ + c; }
   Coefficient* coefficients_;
+
+ protected:
   RangeEncoder* encoder_;
   std::size_t stop_after_;
   DecisionQueue* queue_;
   const Models* models_;
   std::size_t k_;
+};
+
+/// On two threads, the passes of the first components write their decisions to a queue
+/// (EncoderIo with a queue), and a plane marker where each plane after the first begins.
+class QueueingIo : public EncoderIo {
+ public:
+  using EncoderIo::EncoderIo;
+  void begin_component(int, int c) {
+    if (c != 0) return;
+    if (begun_) queue_->push(DecisionQueue::kPlaneMarker);
+    begun_ = true;
+  }
+
+ private:
+  bool begun_ = false;  // whether a plane has begun
+};
+
+/// ... and the other thread codes, at each plane, those decisions of the plane (read off the
+/// queue, coded with its own models, `coded`, which the passes of its components use too), then
+/// its own components' as its passes make them: the decisions of one thread in the order of
+/// one, so the same bytes.
+class CodingIo : public EncoderIo {
+ public:
+  CodingIo(Quantized& q, RangeEncoder& encoder, std::size_t stop_after, DecisionQueue& from, Models& coded, int first_own)
+      : EncoderIo(q, encoder, stop_after), from_(&from), coded_(&coded), first_own_(first_own) {}
+  /// Past `stop_after` bytes it codes no more: it asks the other thread to stop, and its own
+  /// passes' next decision stops them (bit() returns -1).
+  void begin_component(int, int c) {
+    if (c != first_own_) return;
+    from_->read_plane([this](std::uint16_t d) {
+      if (stopped_) return;
+      if (encoder_->bytes_final() > stop_after_) {
+        from_->ask_to_stop();
+        stopped_ = true;
+        return;
+      }
+      encoder_->encode((*coded_)[d >> 1], d & 1);
+    });
+  }
+
+ private:
+  DecisionQueue* from_;
+  Models* coded_;
+  int first_own_;
+  bool stopped_ = false;
 };
 
 class DecoderIo {
@@ -623,6 +713,7 @@ class DecoderIo {
   /// decoder waits for bytes).
   DecoderIo(const RangeDecoder& decoder, int& last_plane) : decoder_(decoder), last_plane_(&last_plane) {}
   void begin_plane(int n) { *last_plane_ = n; }
+  void begin_component(int, int) {}
   int bit(BitModel& m, bool) { return decoder_.try_decode(m); }
   std::uint32_t magnitude(std::uint32_t, int) const { return 0; }
   bool negative(std::uint32_t, int) const { return false; }
@@ -649,42 +740,43 @@ bool encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
   significant.reserve(static_cast<std::size_t>(q.components));
   lists.reserve(static_cast<std::size_t>(q.components));
   for (int c = 0; c < q.components; ++c) lists.emplace_back(forest, true, significant.emplace_back(forest.vertex_count()));
+  EncoderIo io(q, encoder, stop_after);
+  io.fill_widths(forest, concurrent);
   Models models;
-  if (concurrent) {
-    // The coder's models start as the passes' do and see the same decisions in the same order,
-    // so each holds at every decision the probability it would hold on one thread.
+  if (concurrent && q.components > 1) {
+    // The passes of all components but the last on a thread of their own, writing their
+    // decisions to a queue; on this one, at each plane, those decisions coded, then the last
+    // component's passes coding theirs (CodingIo). The range coder's work (about half the passes')
+    // then sits beside the last component's passes. Each component's lists, state and models are
+    // its own, so the two threads share nothing but the queue and the records they read.
+    const int split = q.components - 1;
     DecisionQueue queue;
-    bool complete = false;
+    bool complete_first = false, complete_last = false;
     const bool ran = try_run_both(
-        [&] {
-          Models coded;
-          // Every decision is read (the writer waits for free slots), even after a failure here.
-          std::exception_ptr failure;
-          bool asked = false;
-          queue.read([&](std::uint16_t d) {
-            if (!failure) try {
-                encoder.encode(coded[d >> 1], d & 1);
-              } catch (...) {
-                failure = std::current_exception();
-              }
-            if (!asked && encoder.bytes_final() > stop_after) {
-              queue.ask_to_stop();
-              asked = true;
-            }
-          });
-          if (failure) std::rethrow_exception(failure);
-        },
         [&] {
           struct Finish {
             DecisionQueue& queue;
             ~Finish() { queue.finish(); }  // also if the passes throw: the reader must not wait forever
           } finish{queue};
-          EncoderIo io(forest, q, encoder, stop_after, &queue, &models);
-          complete = run(forest, q.components, top, base_plane, nullptr, io, lists, models);
+          Models indexed;  // the passes' own, for the models' indices
+          QueueingIo producer(q, encoder, stop_after, &queue, &indexed);
+          complete_first = run(forest, q.components, top, base_plane, nullptr, producer, lists, indexed, 0, split);
+        },
+        [&] {
+          CodingIo coder(q, encoder, stop_after, queue, models, split);
+          try {
+            complete_last = run(forest, q.components, top, base_plane, nullptr, coder, lists, models, split, q.components);
+          } catch (...) {
+            queue.ask_to_stop();
+            queue.drain();
+            throw;
+          }
+          // Stopped at the budget: the other thread may be waiting for a free slot.
+          if (!complete_last) queue.ask_to_stop();
+          queue.drain();
         });
-    if (ran) return complete;  // else no thread could be started: on this one
+    if (ran) return complete_first && complete_last;  // else no thread could be started: on this one
   }
-  EncoderIo io(forest, q, encoder, stop_after);
   return run(forest, q.components, top, base_plane, nullptr, io, lists, models);
 }
 

@@ -88,13 +88,15 @@ int top_plane(const Quantized& q);
 /// before): a base coefficient with bits there starts in the LSP, the others in the LIP, and
 /// both are first tested or refined at plane base_plane - 1 (FORMAT.md §5.2). base_plane >
 /// top_plane: the base is coded here like every vertex (nothing before).
-/// `concurrent`: the passes, which decide every bit from the magnitudes alone, run on the
-/// caller's thread while a second thread range-codes their decisions as they come (a queue of
-/// model indices and bits between them); the same bytes as on one thread.
-/// `stop_after`: the passes may stop once the encoder has emitted more than this many bytes
-/// (RangeEncoder::bytes_final()); its stream is then a prefix of the whole one but for its last
-/// few bytes, and every byte up to stop_after the same (on two threads they stop up to the
-/// queue's 8 slots of 2^15 decisions later). Returns whether every plane was coded.
+/// `concurrent` (and more than one component): the passes, which decide every bit from the
+/// magnitudes alone, of all components but the last run on a second thread, writing their
+/// decisions to a queue (model indices and bits); the caller's thread codes, at each plane,
+/// those decisions, then its own component's as its passes make them. Each component's lists,
+/// state and models are its own, so the same bytes as on one thread.
+/// `stop_after`: the passes stop once the encoder has emitted more than this many bytes
+/// (RangeEncoder::bytes_final(), checked before each decision coded, on either thread count);
+/// the stream is then a prefix of the whole one but for its last few bytes, and every byte up
+/// to stop_after the same. Returns whether every plane was coded.
 bool encode(const Forest& forest, Quantized& q, int top_plane, int base_plane, RangeEncoder& encoder,
             bool concurrent = false, std::size_t stop_after = std::numeric_limits<std::size_t>::max());
 
