@@ -178,7 +178,6 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
   return weights;
 }
 
-
 }  // namespace
 
 std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptions& options) {

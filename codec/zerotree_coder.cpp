@@ -696,6 +696,8 @@ class CodingIo : public EncoderIo {
       encoder_->encode((*coded_)[d >> 1], d & 1);
     });
   }
+  /// Whether it stopped coding the other thread's decisions at the budget.
+  bool stopped() const { return stopped_; }
 
  private:
   DecisionQueue* from_;
@@ -765,7 +767,9 @@ bool encode(const Forest& forest, Quantized& q, int top, int base_plane, RangeEn
         [&] {
           CodingIo coder(q, encoder, stop_after, queue, models, split);
           try {
-            complete_last = run(forest, q.components, top, base_plane, nullptr, coder, lists, models, split, q.components);
+            // Complete only if no queued decision was left uncoded either.
+            complete_last = run(forest, q.components, top, base_plane, nullptr, coder, lists, models, split, q.components) &&
+                            !coder.stopped();
           } catch (...) {
             queue.ask_to_stop();
             queue.drain();
