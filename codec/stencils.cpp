@@ -236,6 +236,7 @@ class ButterflyVertices {
   }
   std::uint32_t valence(std::uint32_t v) const { return valence_[v]; }
   bool irregular(std::uint32_t v) const { return !boundary_[v] && valence_[v] != 6; }
+  bool on_boundary(std::uint32_t v) const { return boundary_[v] != 0; }
   const VertexEdges& edges() const { return *edges_; }
   /// Those of an irregular vertex's valence K (made by the constructor).
   const std::vector<double>& ring_weights(unsigned K) const { return ring_weights_[K]; }
@@ -936,9 +937,11 @@ class CapturedRows : public RowPatterns {
 
 /// Takes rows as StepWriter takes them and adds each source's weight to its column sum, row
 /// after row and in row order, as add_column_sums() reads a table's.
+/// With `only` given, only the sources it marks get their weights.
 class ColumnSumRows : public RowPatterns {
  public:
-  explicit ColumnSumRows(std::span<double> column_sum) : sum_(column_sum) {}
+  explicit ColumnSumRows(std::span<double> column_sum, const std::uint8_t* only = nullptr)
+      : sum_(column_sum), only_(only) {}
   template <std::size_t N>
   void row(std::uint32_t pattern, const std::uint32_t (&sources)[N]) {
     add(patterns_[pattern].weights.data(), sources, N);
@@ -949,9 +952,11 @@ class ColumnSumRows : public RowPatterns {
 
  private:
   void add(const double* w, const std::uint32_t* sources, std::size_t arity) {
-    for (std::size_t k = 0; k < arity; ++k) sum_[sources[k]] += w[k];
+    for (std::size_t k = 0; k < arity; ++k)
+      if (only_ == nullptr || only_[sources[k]]) sum_[sources[k]] += w[k];
   }
   std::span<double> sum_;
+  const std::uint8_t* only_;
 };
 
 }  // namespace
@@ -1054,12 +1059,52 @@ void RefinedPredictRows::analyze(std::uint32_t block_rows, double* x, int channe
 void RefinedPredictRows::add_column_sums(std::span<double> column_sum) const {
   const TriangleTopology& coarse = shared_->coarse;
   const auto E = static_cast<std::uint32_t>(coarse.edge_count()), F = static_cast<std::uint32_t>(coarse.face_count());
-  with_refined_rows(*shared_, [&](auto make_rows) {
-    auto rows = make_rows();
+  if (!shared_->butterfly) {  // linear: two sources a row, nothing to save
+    LinearRefinedRows rows{coarse};
     ColumnSumRows sink(column_sum);
     rows.halves(sink, 0, E);
     rows.inner(sink, 0, F);
-  });
+    return;
+  }
+  // Butterfly's column sum at a fine vertex whose fine 2-ring holds no extraordinary and no
+  // boundary vertex is exactly 3: it is a0 or a1 of its 6 edges' rows (1/2 each), b of the 6 edges
+  // facing it (1/8) and a tip of 12 (-1/16), every row the regular one (butterfly_regular_row; a
+  // row whose sources repeat merges the same weights), and sums of these dyadic weights are exact
+  // in any order. So only the vertices near an irregular coarse vertex (extraordinary or on the
+  // boundary; the fine level adds none: its new vertices have valence 6, or 4 on the boundary,
+  // next to a boundary coarse vertex) are summed from rows, and from every row that holds them, in
+  // row order: the table's bits. By coarse distance d to the nearest irregular coarse vertex
+  // (a fine 2-ring reaches one coarse edge): a coarse vertex with d <= kSummed and a midpoint with
+  // an endpoint there are summed, from the rows of the coarse edges and faces with a corner at
+  // d <= kSummed + 2 (a row's sources lie within one fine 2-ring, one coarse edge, of its edge).
+  const ButterflyVertices& vertices = shared_->butterfly->vertices;
+  const std::uint32_t V = coarse.vertex_count;
+  constexpr std::uint8_t kSummed = 2, kRowsReach = kSummed + 2, kFar = 255;
+  std::vector<std::uint8_t> distance(V, kFar);
+  for (std::uint32_t v = 0; v < V; ++v)
+    if (vertices.irregular(v) || vertices.on_boundary(v)) distance[v] = 0;
+  for (std::uint8_t d = 0; d < kRowsReach; ++d)
+    for (std::uint32_t e = 0; e < E; ++e) {
+      const std::uint32_t a = coarse.edge_vertices[2 * std::size_t{e}], b = coarse.edge_vertices[2 * std::size_t{e} + 1];
+      if (distance[a] == d && distance[b] == kFar) distance[b] = static_cast<std::uint8_t>(d + 1);
+      if (distance[b] == d && distance[a] == kFar) distance[a] = static_cast<std::uint8_t>(d + 1);
+    }
+  auto edge_distance = [&](std::uint32_t e) {
+    return std::min(distance[coarse.edge_vertices[2 * std::size_t{e}]], distance[coarse.edge_vertices[2 * std::size_t{e} + 1]]);
+  };
+  std::vector<std::uint8_t> summed(std::size_t{V} + E, 0);
+  for (std::uint32_t v = 0; v < V; ++v) summed[v] = distance[v] <= kSummed;
+  for (std::uint32_t e = 0; e < E; ++e) summed[V + e] = edge_distance(e) <= kSummed;
+  for (std::size_t v = 0; v < summed.size(); ++v)
+    if (!summed[v]) column_sum[v] += 3.0;
+  ButterflyRefinedRows rows(*shared_->butterfly);
+  ColumnSumRows sink(column_sum, summed.data());
+  for (std::uint32_t e = 0; e < E; ++e)
+    if (edge_distance(e) <= kRowsReach) rows.halves(sink, e, e + 1);
+  for (std::uint32_t f = 0; f < F; ++f) {
+    const std::uint32_t* c = &coarse.triangles[3 * std::size_t{f}];
+    if (std::min({distance[c[0]], distance[c[1]], distance[c[2]]}) <= kRowsReach) rows.inner(sink, f, f + 1);
+  }
 }
 
 void loop_refined_blocks(const TriangleTopology& coarse, const TriangleTopology& fine, std::uint32_t block_rows,

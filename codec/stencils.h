@@ -52,8 +52,10 @@ class RefinedPredictRows {
   /// with no table, the same chunks and halves as synthesize(): the same bits as the table's.
   void analyze(std::uint32_t block_rows, double* x, int channels, bool concurrent) const;
   /// Adds the weights of every row to `column_sum` (indexed by source vertex), as
-  /// add_column_sums() adds a table's, with no table: the same bits. \pre column_sum covers the
-  /// rows' sources, the coarse level's vertices and edge midpoints.
+  /// add_column_sums() adds a table's, with no table: the same bits. Butterfly's rows are read
+  /// only near the extraordinary and boundary vertices: elsewhere a vertex's sum is exactly 3.
+  /// \pre column_sum holds zeros for the rows' sources, the coarse level's vertices and edge
+  /// midpoints (the sums of dyadic weights are exact in any order only from zero).
   void add_column_sums(std::span<double> column_sum) const;
   /// The rows as one step (a table).
   LiftingStep step() const;

@@ -2,6 +2,7 @@
 // the tables' analysis, and stencils::LevelRows (rows read one at a time by target) against the
 // tables' rows and the levels' own incident edges, over bases with extraordinary vertices, boundaries and a two-face pillow.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -118,5 +119,25 @@ TEST_CASE("LevelRows reads every row of every step as its table holds it, and th
           }
         }
       }
+  }
+}
+
+TEST_CASE("butterfly's column sums read near irregular vertices only are the table's, bit for bit, on deep levels",
+          "[lifting]") {
+  // Deep enough that most vertices lie far from every extraordinary and boundary vertex (their sum
+  // is taken as 3), and the ones near them are summed from their rows: on a closed mesh with
+  // valence-5 vertices, an open grid, a disk around a valence-5 centre, a valence-3 bicone and
+  // a torus with no irregular vertex at all.
+  for (const TriangleMesh& base : {test::icosahedron(), test::grid(4), test::disk(5), test::bicone(3), test::torus()}) {
+    constexpr int L = 5;
+    const SemiRegularHierarchy h(topology_of(base), L);
+    for (int j = 1; j < L; ++j) {
+      std::vector<double> sums(h.vertex_count(j), 0.0), expected(h.vertex_count(j), 0.0);
+      stencils::add_column_sums(stencils::predict(h.topology(j), Scheme::butterfly), expected);
+      stencils::RefinedPredictRows(h.topology(j - 1), Scheme::butterfly).add_column_sums(sums);
+      INFO(h.vertex_count(0) << " base vertices, level " << j << ", " << std::count(expected.begin(), expected.end(), 3.0)
+                             << " sums of 3 of " << expected.size());
+      REQUIRE(same_bits(sums, expected));
+    }
   }
 }
