@@ -337,7 +337,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   auto limit_surface = [&](const std::vector<double>& control_points) {
     std::vector<double> subdivided(3 * static_cast<std::size_t>(h.vertex_count(h.levels())), 0.0);
     std::copy(control_points.begin(), control_points.end(), subdivided.begin());
-    WaveletTransform(h, {Scheme::loop}).synthesize(subdivided);
+    for (int j = 0; j < h.levels(); ++j) synthesize_level(h, {Scheme::loop}, j, subdivided);  // no tables: the same bits
     std::vector<double> limit(subdivided.size());
     apply_loop_limit(TriangleMesh{subdivided, h.triangles(h.levels())}, subdivided, limit);
     // Base vertices stay exactly where decimation left them (on the input surface); without the

@@ -123,7 +123,6 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
   for (std::uint32_t v = 0; v < h.vertex_count(0); ++v) face_of[v] = surface.closest(at(x, v)).face;
   auto input_normal = [&](std::uint32_t f) { return unit(face_normal(input.positions, &input.triangles[3 * std::size_t{f}])); };
 
-  const WaveletTransform butterfly(h, {Scheme::butterfly});
   std::vector<double> next;
   std::vector<std::uint32_t> next_face;
   const double work_total = static_cast<double>(total - h.vertex_count(0)) * (1 + options.relax_iterations);
@@ -246,7 +245,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
     // 428; cow 617 vs 828) at no loss (cow 69.6 dB both, fandisk 73.2 vs 70.4 dB).
     if (j > options.guide_levels) {
       std::fill(x.begin() + 3 * std::ptrdiff_t{first}, x.begin() + 3 * std::ptrdiff_t{end}, 0.0);
-      butterfly.synthesize(x, 3, j, j - 1);
+      synthesize_level(h, {Scheme::butterfly}, j - 1, x, 3);  // no tables: the same bits
     }
     // Round 0 projects the start positions; rounds 1.. smooth tangentially, then project. Fixed
     // vertices keep the guide's position (on a feature line).
@@ -273,7 +272,7 @@ void fit_to_surface(SemiRegularMesh& mesh, std::span<const double> guide, const 
     if (j <= options.normal_line_levels) {
       std::vector<double> predicted(x.begin(), x.begin() + 3 * std::ptrdiff_t{end});
       std::fill(predicted.begin() + 3 * std::ptrdiff_t{first}, predicted.end(), 0.0);
-      butterfly.synthesize(predicted, 3, j, j - 1);
+      synthesize_level(h, {Scheme::butterfly}, j - 1, predicted, 3);
       next.assign(3 * fresh.size(), 0.0);
       next_face.assign(fresh.size(), kNone);
       parallel_blocks(fresh.size(), threads, [&](std::size_t begin, std::size_t stop) {

@@ -59,7 +59,8 @@ int run_subdivide(const SubdivideArgs& a) {
                                                                 triangles.triangles);
       SemiRegularMesh mesh{SemiRegularHierarchy(std::move(base), given + a.levels), triangles.positions, {}};
       mesh.positions.resize(3 * std::size_t{mesh.hierarchy.vertex_count(given + a.levels)}, 0.0);
-      WaveletTransform(mesh.hierarchy, {scheme, false}).synthesize(mesh.positions, 3, -1, given);
+      // A level at a time from the given ones, without the transform's tables (the same points).
+      for (int j = given; j < mesh.hierarchy.levels(); ++j) synthesize_level(mesh.hierarchy, {scheme, false}, j, mesh.positions);
       result = to_polygon_mesh(mesh.finest());
     }
   } catch (const MeshError& e) {
