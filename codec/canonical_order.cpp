@@ -122,7 +122,8 @@ std::vector<std::uint32_t> old_vertices(const SemiRegularHierarchy& old, const T
 }
 
 CanonicalHierarchy build_reordered(const SemiRegularMesh& mesh, const base_mesh::CodingOrder& order,
-                                   bool finest_triangles, bool coefficient_tree, bool concurrent) {
+                                   bool finest_triangles, bool coefficient_tree, bool concurrent,
+                                   bool topology_below_finest = true) {
   const SemiRegularHierarchy& old = mesh.hierarchy;
   const std::vector<std::uint32_t>& old_base = old.triangles(0);
 
@@ -137,7 +138,7 @@ CanonicalHierarchy build_reordered(const SemiRegularMesh& mesh, const base_mesh:
   std::optional<SemiRegularHierarchy> h;
   std::vector<std::uint32_t> old_vertex;
   run_both(
-      concurrent, [&] { h.emplace(new_base, old.levels(), finest_triangles, coefficient_tree); },
+      concurrent, [&] { h.emplace(new_base, old.levels(), finest_triangles, coefficient_tree, topology_below_finest); },
       [&] { old_vertex = old_vertices(old, new_base, order); });
   return {std::move(*h), std::move(old_vertex)};
 }
@@ -152,10 +153,11 @@ CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_
 }
 
 std::optional<CanonicalHierarchy> canonical_hierarchy_if_reordered(const SemiRegularMesh& mesh, bool finest_triangles,
-                                                                   bool coefficient_tree, bool concurrent) {
+                                                                   bool coefficient_tree, bool concurrent,
+                                                                   bool topology_below_finest) {
   const base_mesh::CodingOrder order = coding_order(mesh);
   if (in_coding_order(mesh.hierarchy, order)) return std::nullopt;
-  return build_reordered(mesh, order, finest_triangles, coefficient_tree, concurrent);
+  return build_reordered(mesh, order, finest_triangles, coefficient_tree, concurrent, topology_below_finest);
 }
 
 SemiRegularMesh canonical_order(const SemiRegularMesh& mesh) {

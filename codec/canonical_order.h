@@ -31,8 +31,10 @@ CanonicalHierarchy canonical_hierarchy(const SemiRegularMesh& mesh, bool finest_
 bool is_canonical(const SemiRegularMesh& mesh);
 
 /// canonical_hierarchy(), or nothing where is_canonical(mesh) (the mesh's own hierarchy is the
-/// canonical one): both decided by one traversal of the base.
+/// canonical one): both decided by one traversal of the base. `topology_below_finest` false
+/// leaves out the topology of the level below the finest (SemiRegularHierarchy's constructor).
 std::optional<CanonicalHierarchy> canonical_hierarchy_if_reordered(const SemiRegularMesh& mesh, bool finest_triangles,
-                                                                   bool coefficient_tree, bool concurrent = false);
+                                                                   bool coefficient_tree, bool concurrent = false,
+                                                                   bool topology_below_finest = true);
 
 }  // namespace meshlift

@@ -116,7 +116,6 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
     x[begin + (h.vertex_count(j) - begin) / 2] = 1.0;
     make_live(begin + (h.vertex_count(j) - begin) / 2);
     for (int i = std::max(0, j - 1); i < L; ++i) {
-      const TriangleTopology& t = h.topology(i);
       const std::uint32_t V = h.vertex_count(i), fine_V = h.vertex_count(i + 1);
       stencils::LevelRows& rows = *level_rows[static_cast<std::size_t>(i)];
       for (std::size_t s = 0; s < rows.steps().size(); ++s) {
@@ -137,8 +136,11 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
             }
             make_near(u);
             rows.incident_edges(u, incident);
-            for (const std::uint32_t e : incident)
-              make_near(t.edge_vertices[2 * e] == u ? t.edge_vertices[2 * e + 1] : t.edge_vertices[2 * e]);
+            for (const std::uint32_t e : incident) {
+              std::uint32_t a, b;
+              rows.edge_ends(e, a, b);
+              make_near(a == u ? b : a);
+            }
           }
           for (const std::uint32_t w : near) {
             is_near[w] = 0;
@@ -151,8 +153,10 @@ std::vector<double> level_weights(const SemiRegularHierarchy& h, WaveletOptions 
             if (u < V) {
               candidate(u);
             } else if (u < fine_V) {
-              candidate(t.edge_vertices[2 * (u - V)]);
-              candidate(t.edge_vertices[2 * (u - V) + 1]);
+              std::uint32_t a, b;
+              rows.edge_ends(u - V, a, b);
+              candidate(a);
+              candidate(b);
             }
           }
         }
@@ -213,10 +217,12 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
                               ? std::thread::hardware_concurrency() > 1 && V >= EncodeOptions::kConcurrentEncodeVertices
                               : options.threads > 1;
   // The canonical order as a renumbering, read through: no reordered copy of the positions, and
-  // a hierarchy without the finest faces and the coefficient tree (nothing here reads them). A
-  // mesh in that order already (a decoded one, canonical_order()'s output) is read as it is.
+  // a hierarchy without the finest faces, the coefficient tree and the topology of the level below
+  // the finest (nothing here reads them: what needs that level reads it off the level below, as
+  // the decoder does). A mesh in that order already (a decoded one, canonical_order()'s output)
+  // is read as it is.
   const std::optional<CanonicalHierarchy> canonical =
-      canonical_hierarchy_if_reordered(input, false, false, concurrent);  // also checks the array sizes
+      canonical_hierarchy_if_reordered(input, false, false, concurrent, false);  // also checks the array sizes
   const bool in_order = !canonical;
   const SemiRegularHierarchy& h = in_order ? given : canonical->hierarchy;
   const std::uint32_t* const old_vertex = in_order ? nullptr : canonical->old_vertex.data();

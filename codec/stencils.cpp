@@ -1180,18 +1180,20 @@ LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep&
 /// rows kept by the last call.
 struct LevelRows::Impl {
   Impl(const SemiRegularHierarchy& h, WaveletOptions o, int l, const LevelRows* b, std::span<const double> w)
-      : options(o), level(l), t(h.topology(l)), below(b), update_weights(w), V(h.vertex_count(l)) {
-    if (l == 0)
-      base_edges.emplace(t);
-    else if (b == nullptr)
+      : options(o), level(l), below(b), update_weights(w), V(h.vertex_count(l)) {
+    if (l == 0) {
+      base = &h.topology(0);
+      base_edges.emplace(*base);
+    } else if (b == nullptr) {
       throw std::invalid_argument("LevelRows: a level above the base needs the level below");
-    else
+    } else {
       coarse = &h.topology(l - 1);
+    }
   }
 
   WaveletOptions options;
   int level;
-  const TriangleTopology& t;
+  const TriangleTopology* base = nullptr;  // at the base: its topology
   const LevelRows* below;
   const TriangleTopology* coarse = nullptr;   // above the base: the level below
   std::optional<VertexEdges> base_edges;      // at the base
@@ -1229,12 +1231,18 @@ struct LevelRows::Impl {
   }
   // v's incident edges in increasing order (all, or only its boundary edges if `boundary_only`
   // and it has some), as sources V + e: the sources of loop_update() and mean_preserving_update().
+  // Whether the level's edge e is on the boundary: above the base, a half of a boundary edge
+  // of the level below (inner edges never are).
+  bool is_boundary_edge(std::uint32_t e) const {
+    if (base != nullptr) return base->is_boundary_edge(e);
+    return e < 2 * coarse->edge_count() && coarse->is_boundary_edge(e / 2);
+  }
   // Returns whether v is on a boundary.
   bool vertex_sources(std::uint32_t v, bool boundary_only) {
     const bool boundary = below_edges_of(v, incident_scratch);
     sources.clear();
     for (const std::uint32_t e : incident_scratch)
-      if (!(boundary_only && boundary) || t.is_boundary_edge(e)) sources.push_back(V + e);
+      if (!(boundary_only && boundary) || is_boundary_edge(e)) sources.push_back(V + e);
     return boundary;
   }
   bool below_edges_of(std::uint32_t v, std::vector<std::uint32_t>& out) const;
@@ -1275,11 +1283,21 @@ bool LevelRows::incident_edges(std::uint32_t v, std::vector<std::uint32_t>& edge
   return impl_->below_edges_of(v, edges);
 }
 
+void LevelRows::edge_ends(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const {
+  const Impl& m = *impl_;
+  if (m.base != nullptr) {
+    a = m.base->edge_vertices[2 * std::size_t{e}];
+    b = m.base->edge_vertices[2 * std::size_t{e} + 1];
+  } else {
+    m.coarse->refined_edge(e, a, b);
+  }
+}
+
 LevelRows::LevelRows(const SemiRegularHierarchy& hierarchy, WaveletOptions options, int level, const LevelRows* below,
                      std::span<const double> update_weights)
     : impl_(std::make_unique<Impl>(hierarchy, options, level, below, update_weights)) {
   Impl& m = *impl_;
-  const auto E = static_cast<std::uint32_t>(m.t.edge_count());
+  const std::uint32_t E = hierarchy.vertex_count(level + 1) - m.V;
   if (level == 0) {
     m.tables.emplace(hierarchy, options, 0, 1);
     for (const LiftingStep& step : m.tables->steps(0)) {
@@ -1331,22 +1349,32 @@ LevelRows::Row LevelRows::row(std::size_t step, std::uint32_t target) {
   const bool is_predict = m.steps[step].first_target == m.V;
   if (m.options.scheme == Scheme::loop) {
     if (is_predict) {
-      // predict(t, Scheme::loop): midpoint on a boundary edge, else 3/8 (a + b) + 1/8 (c + d), a
-      // pillow's c == d merged into one source of 1/4 (loop_edge_row).
-      const std::uint32_t a = m.t.edge_vertices[2 * r], b = m.t.edge_vertices[2 * r + 1];
-      if (m.t.is_boundary_edge(r)) {
+      // loop_predict_refined's row: 3/8 (a + b) + 1/8 (c + d), a pillow's c == d merged into one
+      // source of 1/4 (loop_edge_row), or the midpoint on a boundary edge; read off the level
+      // below (loop_halves, loop_inner: the two halves of a coarse edge, the three inner edges of
+      // a coarse face, the one wanted picked by its place).
+      const auto Ec = static_cast<std::uint32_t>(m.coarse->edge_count());
+      const std::uint32_t pick = r < 2 * Ec ? r % 2 : (r - 2 * Ec) % 3;
+      std::uint32_t k = 0;
+      auto interior = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+        if (k++ != pick) return;
+        if (c != d) {
+          m.sources = {a, b, c, d};
+          m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
+        } else {
+          m.sources = {a, b, c};
+          m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8 + 1.0 / 8};
+        }
+      };
+      auto boundary = [&](std::uint32_t a, std::uint32_t b) {
+        if (k++ != pick) return;
         m.sources = {a, b};
         m.weights = {0.5, 0.5};
-        return m.written(1.0);
-      }
-      const std::uint32_t c = opposite(m.t, m.t.edge_faces[2 * r], r), d = opposite(m.t, m.t.edge_faces[2 * r + 1], r);
-      if (c != d) {
-        m.sources = {a, b, c, d};
-        m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
-      } else {
-        m.sources = {a, b, c};
-        m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8 + 1.0 / 8};
-      }
+      };
+      if (r < 2 * Ec)
+        loop_halves(*m.coarse, r / 2, r / 2 + 1, interior, boundary);
+      else
+        loop_inner(*m.coarse, (r - 2 * Ec) / 3, (r - 2 * Ec) / 3 + 1, interior);
       return m.written(1.0);
     }
     // loop_update(t): the odd vertices on the target's edges (on a boundary its boundary edges'),

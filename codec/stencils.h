@@ -73,10 +73,12 @@ LiftingStep refined_predict(const TriangleTopology& coarse, Scheme scheme);
 /// per vertex of level + 1): for a caller that visits a few rows of each level, as the encoder's
 /// level weights follow an impulse's support. Each row is its table row: the same scale, the
 /// same sources in the same order, the same weights. At the base they are read off its tables
-/// (small); above it Loop's off the level's own topology and incident edges (the rules of
-/// predict() and loop_update(), which loop_predict_refined and loop_update_refined reproduce),
+/// (small); above it Loop's predict rows off the level below (loop_halves, loop_inner: the rows
+/// of loop_predict_refined), its update rows off the incident edges (the rule of loop_update()),
 /// linear's and butterfly's predict rows off the level below (RefinedPredictRows' rules), and
-/// the mean-preserving update's off the incident edges with the weights given.
+/// the mean-preserving update's off the incident edges with the weights given. Above the base
+/// the level's own topology is not read (a hierarchy may leave out that of the level below its
+/// finest, as the encoder's and the decoder's do).
 class LevelRows {
  public:
   /// `below` is level - 1's (nullptr at the base) and must outlive this: above the base a
@@ -104,6 +106,9 @@ class LevelRows {
   };
   /// Step `step`'s row of `target`; valid until the next call.
   Row row(std::size_t step, std::uint32_t target);
+  /// The endpoints of the level's edge e (above the base read off the level below, as
+  /// TriangleTopology::refined_edge gives them).
+  void edge_ends(std::uint32_t e, std::uint32_t& a, std::uint32_t& b) const;
   /// The edges of the level at vertex v in increasing order, as VertexEdges lists them, into
   /// `edges` (replaced); returns whether v is on a boundary. Above the base by the 1:4 rule of
   /// TriangleTopology::refined(): a vertex of the level below has the halves at it of its edges

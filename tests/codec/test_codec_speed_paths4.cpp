@@ -76,6 +76,11 @@ TEST_CASE("LevelRows reads every row of every step as its table holds it, and th
   constexpr int L = 3;
   for (const TriangleMesh& base : bases()) {
     const SemiRegularHierarchy h(topology_of(base), L);
+    // Read off the whole hierarchy, and off one without the topology of the level below the
+    // finest (the encoder's and the decoder's), whose rows and edges come from the level below.
+    const SemiRegularHierarchy lean(topology_of(base), L, false, false, false);
+    REQUIRE_FALSE(lean.has_topology(L - 1));
+    for (const SemiRegularHierarchy* read : {&h, &lean})
     for (const Scheme scheme : {Scheme::linear, Scheme::butterfly, Scheme::loop})
       for (const bool update : {false, true}) {
         const WaveletOptions options{scheme, update};
@@ -84,12 +89,14 @@ TEST_CASE("LevelRows reads every row of every step as its table holds it, and th
         std::vector<std::unique_ptr<stencils::LevelRows>> levels;
         for (int j = 0; j < L; ++j) {
           if (update && scheme != Scheme::loop && j > 0) weights[j] = update_weights(h, scheme, j);
-          levels.push_back(std::make_unique<stencils::LevelRows>(h, options, j, j > 0 ? levels.back().get() : nullptr, weights[j]));
+          levels.push_back(
+              std::make_unique<stencils::LevelRows>(*read, options, j, j > 0 ? levels.back().get() : nullptr, weights[j]));
           stencils::LevelRows& rows = *levels.back();
           const std::vector<LiftingStep>& steps = tables.steps(j);
           INFO(to_string(scheme) << (update ? " with the update" : "") << ", " << h.vertex_count(0) << " base vertices, level "
-                                 << j);
-          // The incident edges derived from the level below are the level's own, in order.
+                                 << j << (read == &lean ? ", without the topology below the finest" : ""));
+          // The incident edges derived from the level below are the level's own, in order, and
+          // so are the edges' ends.
           const VertexEdges edges(h.topology(j));
           std::vector<std::uint32_t> incident;
           for (std::uint32_t v = 0; v < h.vertex_count(j); ++v) {
@@ -97,6 +104,12 @@ TEST_CASE("LevelRows reads every row of every step as its table holds it, and th
             REQUIRE(incident == std::vector<std::uint32_t>(edges.edges.begin() + edges.offsets[v],
                                                            edges.edges.begin() + edges.offsets[v + 1]));
             REQUIRE(boundary == (edges.boundary[v] != 0));
+          }
+          for (std::uint32_t e = 0; e < h.topology(j).edge_count(); ++e) {
+            std::uint32_t a = 0, b = 0;
+            rows.edge_ends(e, a, b);
+            REQUIRE(a == h.topology(j).edge_vertices[2 * e]);
+            REQUIRE(b == h.topology(j).edge_vertices[2 * e + 1]);
           }
           REQUIRE(rows.steps().size() == steps.size());
           for (std::size_t s = 0; s < steps.size(); ++s) {
