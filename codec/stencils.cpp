@@ -1229,14 +1229,14 @@ struct LevelRows::Impl {
     };
     return butterfly ? rows(*butterfly) : rows(*linear);
   }
-  // v's incident edges in increasing order (all, or only its boundary edges if `boundary_only`
-  // and it has some), as sources V + e: the sources of loop_update() and mean_preserving_update().
   // Whether the level's edge e is on the boundary: above the base, a half of a boundary edge
   // of the level below (inner edges never are).
   bool is_boundary_edge(std::uint32_t e) const {
     if (base != nullptr) return base->is_boundary_edge(e);
     return e < 2 * coarse->edge_count() && coarse->is_boundary_edge(e / 2);
   }
+  // v's incident edges in increasing order (all, or only its boundary edges if `boundary_only`
+  // and it has some), as sources V + e: the sources of loop_update() and mean_preserving_update().
   // Returns whether v is on a boundary.
   bool vertex_sources(std::uint32_t v, bool boundary_only) {
     const bool boundary = below_edges_of(v, incident_scratch);
