@@ -32,7 +32,7 @@ std::vector<TriangleMesh> bases() {
 
 }  // namespace
 
-TEST_CASE("analyze_level is the tables' analysis level by level, bit for bit, without the tables", "[lifting]") {
+TEST_CASE("analyze_level and synthesize_level are the tables' analysis and synthesis level by level, bit for bit", "[lifting]") {
   constexpr int L = 3;
   for (const TriangleMesh& base : bases()) {
     const SemiRegularHierarchy h(topology_of(base), L);
@@ -56,6 +56,11 @@ TEST_CASE("analyze_level is the tables' analysis level by level, bit for bit, wi
                                    << " base vertices, " << channels << " channels" << (concurrent ? ", two threads" : ""));
             REQUIRE(same_bits(level_by_level, expected));
             REQUIRE(same_bits(weights_given, expected));
+            // And synthesize_level from the same values: the tables' synthesis, bit for bit.
+            std::vector<double> by_tables = input, synthesized = input;
+            tables.synthesize(by_tables, channels);
+            for (int j = 0; j < L; ++j) synthesize_level(h, options, j, synthesized, channels, {}, concurrent);
+            REQUIRE(same_bits(synthesized, by_tables));
             // And it is the inverse of synthesize_level, to rounding (amplified by the pillow's
             // valence-2 vertices under Loop).
             for (int j = 0; j < L; ++j) synthesize_level(h, options, j, level_by_level, channels);
