@@ -289,30 +289,43 @@ void append_vertex_rows(StepWriter& step, const TriangleTopology& topology, std:
   }
 }
 
-/// The patterns of Loop's vertex rule over the odd vertices (CODEC-NOTES §3), each made once.
+/// Loop's vertex rule over the odd vertices (CODEC-NOTES §3) for a vertex with n of them: the
+/// row's scale, and its weight, the same on every source.
+struct LoopVertexRule {
+  double scale, weight;
+};
+LoopVertexRule loop_vertex_rule(std::uint32_t n, bool on_boundary) {
+  // Isolated vertex: nothing to average.
+  if (n == 0) return {1.0, 0.0};
+  // Boundary even: v' = v/2 + (odd_l + odd_r)/4 over the two boundary-edge odds, which equals
+  // Loop's boundary rule 3/4 v + 1/8 (b_l + b_r) since odd = (v + b)/2 there.
+  if (on_boundary) return {0.5, 0.25};
+  // Interior even: sum of its n odds = 3n/8 v + 5/8 sum(v_i), so Loop's
+  // v' = (1 - n beta) v + beta sum(v_i) = s_n v + w_n sum(odd), w_n = 8 beta / 5, s_n = 1 - n w_n.
+  const double w = 8.0 * loop_beta(n) / 5.0;
+  return {1.0 - n * w, w};
+}
+
+/// The patterns of loop_vertex_rule(), each made once.
 class LoopUpdatePatterns {
  public:
   explicit LoopUpdatePatterns(StepWriter& step) : step_(step) {}
   std::uint32_t operator()(std::uint32_t n, bool on_boundary) {
+    auto make = [&] {
+      const LoopVertexRule rule = loop_vertex_rule(n, on_boundary);
+      return step_.pattern(rule.scale, std::vector<double>(n, rule.weight));
+    };
     if (n == 0) {
-      // Isolated vertex: nothing to average.
-      if (isolated_ == kNone) isolated_ = step_.pattern(1.0, {});
+      if (isolated_ == kNone) isolated_ = make();
       return isolated_;
     }
     if (on_boundary) {
-      // Boundary even: v' = v/2 + (odd_l + odd_r)/4 over the two boundary-edge odds, which equals
-      // Loop's boundary rule 3/4 v + 1/8 (b_l + b_r) since odd = (v + b)/2 there.
-      if (n != 2) return step_.pattern(0.5, std::vector<double>(n, 0.25));
-      if (boundary_ == kNone) boundary_ = step_.pattern(0.5, std::vector<double>(2, 0.25));
+      if (n != 2) return make();
+      if (boundary_ == kNone) boundary_ = make();
       return boundary_;
     }
-    // Interior even: sum of its n odds = 3n/8 v + 5/8 sum(v_i), so Loop's
-    // v' = (1 - n beta) v + beta sum(v_i) = s_n v + w_n sum(odd), w_n = 8 beta / 5, s_n = 1 - n w_n.
     if (of_valence_.size() <= n) of_valence_.resize(n + 1, kNone);
-    if (of_valence_[n] == kNone) {
-      const double w = 8.0 * loop_beta(n) / 5.0;
-      of_valence_[n] = step_.pattern(1.0 - n * w, std::vector<double>(n, w));
-    }
+    if (of_valence_[n] == kNone) of_valence_[n] = make();
     return of_valence_[n];
   }
 
@@ -474,13 +487,14 @@ void linear_rows(StepWriter& step, const TriangleTopology& t, std::uint32_t begi
 
 /// Loop's interior edge row (a, b, c, d) with weights 3/8, 3/8, 1/8, 1/8; c == d (both faces of
 /// the edge share their third vertex, a two-face "pillow") merges into one source of weight 1/4.
-[[gnu::noinline]] void merged_row(StepWriter& step, const std::uint32_t (&sources)[4], const double* weights) {
+template <class Step>
+[[gnu::noinline]] void merged_row(Step& step, const std::uint32_t (&sources)[4], const double* weights) {
   RowBuilder row;
   for (int k = 0; k < 4; ++k) row.add(sources[k], weights[k]);
   step.row(row);
 }
-inline void loop_edge_row(StepWriter& step, std::uint32_t interior, const std::uint32_t (&sources)[4],
-                          const double* weights) {
+template <class Step>
+inline void loop_edge_row(Step& step, std::uint32_t interior, const std::uint32_t (&sources)[4], const double* weights) {
   if (sources[2] != sources[3]) [[likely]]
     step.row(interior, sources);
   else
@@ -567,8 +581,10 @@ LiftingStep loop_update(const TriangleTopology& t) {
 
 namespace {
 
-/// Rows of loop_predict_refined for the halves of coarse edges [begin, end) (2 rows each).
-void loop_predict_halves(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
+/// Rows of loop_predict_refined for the halves of coarse edges [begin, end) (2 rows each), to a
+/// StepWriter or a sink that takes rows as it does.
+template <class Step>
+void loop_predict_halves(Step& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
   const double midpoint[] = {0.5, 0.5}, loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
   const std::uint32_t boundary = step.pattern(1.0, midpoint), interior = step.pattern(1.0, loop_interior);
   loop_halves(
@@ -580,7 +596,8 @@ void loop_predict_halves(StepWriter& step, const TriangleTopology& coarse, std::
 }
 
 /// Rows of loop_predict_refined for the inner edges of coarse faces [begin, end) (3 rows each).
-void loop_predict_inner(StepWriter& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
+template <class Step>
+void loop_predict_inner(Step& step, const TriangleTopology& coarse, std::uint32_t begin, std::uint32_t end) {
   const double loop_interior[] = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
   const std::uint32_t interior = step.pattern(1.0, loop_interior);
   loop_inner(coarse, begin, end,
@@ -1180,7 +1197,7 @@ LiftingStep mean_preserving_update(const TriangleTopology& t, const LiftingStep&
 /// rows kept by the last call.
 struct LevelRows::Impl {
   Impl(const SemiRegularHierarchy& h, WaveletOptions o, int l, const LevelRows* b, std::span<const double> w)
-      : options(o), level(l), below(b), update_weights(w), V(h.vertex_count(l)) {
+      : options(o), below(b), update_weights(w), V(h.vertex_count(l)) {
     if (l == 0) {
       base = &h.topology(0);
       base_edges.emplace(*base);
@@ -1192,7 +1209,6 @@ struct LevelRows::Impl {
   }
 
   WaveletOptions options;
-  int level;
   const TriangleTopology* base = nullptr;  // at the base: its topology
   const LevelRows* below;
   const TriangleTopology* coarse = nullptr;   // above the base: the level below
@@ -1214,20 +1230,19 @@ struct LevelRows::Impl {
   std::vector<std::uint32_t> sources;
   std::vector<double> weights;
 
-  // The rows of the refined predict step's item holding row r: the two halves of a coarse edge,
-  // or the three inner edges of a coarse face; returns r's place among them.
-  std::size_t refined_item(std::uint32_t r) {
+  // Predict row r of a refined level: the rows of its item, the two halves of a coarse edge or the
+  // three inner edges of a coarse face, written by halves(captured, e, e + 1) or
+  // inner(captured, f, f + 1), and r's among them.
+  template <class Halves, class Inner>
+  Row refined_row(std::uint32_t r, Halves&& halves, Inner&& inner) {
     captured.clear();
-    const auto E = static_cast<std::uint32_t>(refined->coarse.edge_count());
-    auto rows = [&](auto& reader) {
-      if (r < 2 * E) {
-        reader.halves(captured, r / 2, r / 2 + 1);
-        return std::size_t{r % 2};
-      }
-      reader.inner(captured, (r - 2 * E) / 3, (r - 2 * E) / 3 + 1);
-      return std::size_t{(r - 2 * E) % 3};
-    };
-    return butterfly ? rows(*butterfly) : rows(*linear);
+    const auto E = static_cast<std::uint32_t>(coarse->edge_count());
+    if (r < 2 * E) {
+      halves(r / 2);
+      return captured[r % 2];
+    }
+    inner((r - 2 * E) / 3);
+    return captured[(r - 2 * E) % 3];
   }
   // Whether the level's edge e is on the boundary: above the base, a half of a boundary edge
   // of the level below (inner edges never are).
@@ -1348,52 +1363,23 @@ LevelRows::Row LevelRows::row(std::size_t step, std::uint32_t target) {
   }
   const bool is_predict = m.steps[step].first_target == m.V;
   if (m.options.scheme == Scheme::loop) {
-    if (is_predict) {
-      // loop_predict_refined's row: 3/8 (a + b) + 1/8 (c + d), a pillow's c == d merged into one
-      // source of 1/4 (loop_edge_row), or the midpoint on a boundary edge; read off the level
-      // below (loop_halves, loop_inner: the two halves of a coarse edge, the three inner edges of
-      // a coarse face, the one wanted picked by its place).
-      const auto Ec = static_cast<std::uint32_t>(m.coarse->edge_count());
-      const std::uint32_t pick = r < 2 * Ec ? r % 2 : (r - 2 * Ec) % 3;
-      std::uint32_t k = 0;
-      auto interior = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
-        if (k++ != pick) return;
-        if (c != d) {
-          m.sources = {a, b, c, d};
-          m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8, 1.0 / 8};
-        } else {
-          m.sources = {a, b, c};
-          m.weights = {3.0 / 8, 3.0 / 8, 1.0 / 8 + 1.0 / 8};
-        }
-      };
-      auto boundary = [&](std::uint32_t a, std::uint32_t b) {
-        if (k++ != pick) return;
-        m.sources = {a, b};
-        m.weights = {0.5, 0.5};
-      };
-      if (r < 2 * Ec)
-        loop_halves(*m.coarse, r / 2, r / 2 + 1, interior, boundary);
-      else
-        loop_inner(*m.coarse, (r - 2 * Ec) / 3, (r - 2 * Ec) / 3 + 1, interior);
-      return m.written(1.0);
-    }
+    if (is_predict)  // loop_predict_refined's row, read off the level below
+      return m.refined_row(
+          r, [&](std::uint32_t e) { loop_predict_halves(m.captured, *m.coarse, e, e + 1); },
+          [&](std::uint32_t f) { loop_predict_inner(m.captured, *m.coarse, f, f + 1); });
     // loop_update(t): the odd vertices on the target's edges (on a boundary its boundary edges'),
-    // with LoopUpdatePatterns' weights.
+    // by loop_vertex_rule().
     const bool boundary = m.vertex_sources(target, true);
     const auto n = static_cast<std::uint32_t>(m.sources.size());
-    if (n == 0) {
-      m.weights.clear();
-      return m.written(1.0);
-    }
-    if (boundary) {
-      m.weights.assign(n, 0.25);
-      return m.written(0.5);
-    }
-    const double w = 8.0 * loop_beta(n) / 5.0;
-    m.weights.assign(n, w);
-    return m.written(1.0 - n * w);
+    const LoopVertexRule rule = loop_vertex_rule(n, boundary);
+    m.weights.assign(n, rule.weight);
+    return m.written(rule.scale);
   }
-  if (is_predict) return m.captured[m.refined_item(r)];
+  if (is_predict) {
+    auto halves = [&](std::uint32_t e) { m.butterfly ? m.butterfly->halves(m.captured, e, e + 1) : m.linear->halves(m.captured, e, e + 1); };
+    auto inner = [&](std::uint32_t f) { m.butterfly ? m.butterfly->inner(m.captured, f, f + 1) : m.linear->inner(m.captured, f, f + 1); };
+    return m.refined_row(r, halves, inner);
+  }
   // mean_preserving_update(t, predict): the odd vertices on all the target's edges, each weighted
   // by its -lambda.
   m.vertex_sources(target, false);
