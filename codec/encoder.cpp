@@ -248,9 +248,16 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   const std::size_t k_stride = static_cast<std::size_t>(K);
   std::vector<double> values;
   const WaveletOptions wavelet{header.scheme, header.mean_preserving_update};
-  // The mean-preserving update's weights of each level (a pass over its predict rows), made once
-  // for the level weights and the closed loop's syntheses.
+  // The mean-preserving update's weights of each level (its predict rows' column sums), made once
+  // for the level weights, the analysis and the closed loop's syntheses: the finest level's (about
+  // three quarters of the work) beside the others'.
   std::vector<std::vector<double>> update(static_cast<std::size_t>(L));
+  if (wavelet.mean_preserving_update && L > 0)
+    run_both(
+        concurrent, [&] { update.back() = update_weights(h, wavelet.scheme, L - 1); },
+        [&] {
+          for (int j = 0; j + 1 < L; ++j) update[static_cast<std::size_t>(j)] = update_weights(h, wavelet.scheme, j);
+        });
   // No transform tables (18 to 36 bytes per vertex, and their build on the critical path): the
   // values are analyzed a level at a time as the decoder synthesizes them (analyze_level), and
   // the level weights read the few rows and incident edges they follow one at a time
@@ -262,8 +269,6 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
   q.components = K;
   std::optional<zerotree::Forest> forest;
   run_both(concurrent, [&] {
-    if (wavelet.mean_preserving_update)
-      for (int j = 0; j < L; ++j) update[static_cast<std::size_t>(j)] = update_weights(h, wavelet.scheme, j);
     std::vector<double> impulses;
     assign_large(impulses, V, 0.0);
     header.level_weights = level_weights(h, wavelet, impulses, update);
@@ -358,10 +363,8 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     }
     forest.emplace(h);  // the coefficient tree for the bit planes
     // Analysis of the centred values, from the finest level down: base values at [0, V0),
-    // details at the odd vertices. On this thread alone (the other is busy); with the
-    // mean-preserving update each level's weights are made here too (a pass over its predict
-    // rows beside the other side's).
-    for (int j = L - 1; j >= 0; --j) analyze_level(h, wavelet, j, values, K);
+    // details at the odd vertices. On this thread alone (the other is busy).
+    for (int j = L - 1; j >= 0; --j) analyze_level(h, wavelet, j, values, K, false, update[static_cast<std::size_t>(j)]);
     q.allocate(values.size());
     populate(q.coefficients.get(), q.size * sizeof(zerotree::Quantized::Coefficient));
   });
