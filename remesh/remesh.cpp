@@ -631,9 +631,12 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     result.input_crossing_pairs = input_crossings->size();
     result.coincident_vertices = checked.duplicate_vertices;
     result.flipped_where_input_crosses = result.flipped_near_input_crossings = 0;  // set by a fold_free() before rounding
-    if (result.flipped_triangles == 0 || input_crossings->empty()) return;
+    result.flipped_turned_over = 0;
+    if (result.flipped_triangles == 0) return;
     const TriangleMesh finest = result.mesh.finest();
     const std::vector<std::uint32_t> flipped = find_fold_overs(finest, surface).flipped;
+    result.flipped_turned_over = count_turned_over(finest, flipped);
+    if (input_crossings->empty()) return;
     result.flipped_where_input_crosses = count_at_crossings(finest, flipped, surface, crossing);
     result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, near_crossing_marks());
   };

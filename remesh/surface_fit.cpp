@@ -387,6 +387,29 @@ std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std
   return count;
 }
 
+std::size_t count_turned_over(const TriangleMesh& remeshed, std::span<const std::uint32_t> faces) {
+  if (faces.empty()) return 0;
+  const Adjacency adjacency(static_cast<std::uint32_t>(remeshed.vertex_count()), remeshed.triangles);
+  std::size_t count = 0;
+  for (const std::uint32_t f : faces) {
+    const std::uint32_t* t = &remeshed.triangles[3 * std::size_t{f}];
+    const Vec normal = face_normal(remeshed.positions, t);
+    bool turned = false;
+    // The faces across each edge (a, b): those around a that also have b as a corner.
+    for (int i = 0; i < 3 && !turned; ++i) {
+      const std::uint32_t a = t[i], b = t[(i + 1) % 3];
+      for (std::uint32_t k = adjacency.face_offsets[a]; k < adjacency.face_offsets[a + 1] && !turned; ++k) {
+        const std::uint32_t g = adjacency.faces[k];
+        const std::uint32_t* u = &remeshed.triangles[3 * std::size_t{g}];
+        if (g == f || (u[0] != b && u[1] != b && u[2] != b)) continue;
+        turned = dot(normal, face_normal(remeshed.positions, u)) < 0;
+      }
+    }
+    count += turned;
+  }
+  return count;
+}
+
 bool closest_is_marked(std::span<const double> x, const std::uint32_t* t, const SurfaceQuery& surface,
                        std::span<const std::uint8_t> marked) {
   std::uint32_t closest = kNone;

@@ -159,8 +159,14 @@ double print_remesh_summary(const std::string& path, const TriangleMesh& input, 
                  "%s: last resort: searched the vertices around %zu folded faces the untangling left; %zu of "
                  "those searches unfolded them\n",
                  path.c_str(), result.folds_searched, result.folds_mended_by_search);
-  std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles\n", path.c_str(), result.flipped_triangles,
-               result.degenerate_triangles);
+  std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles%s\n", path.c_str(), result.flipped_triangles,
+               result.degenerate_triangles,
+               result.flipped_triangles == 0
+                   ? ""
+                   : (" (" + std::to_string(result.flipped_turned_over) +
+                      " of the flipped ones turned over against a neighbouring face, the others in line with their "
+                      "neighbours but facing away from the input's closest point)")
+                         .c_str());
   if (result.input_crossing_pairs > 0)
     std::fprintf(stderr, "%s: the input passes through itself: %zu pairs of its faces cross (`meshlift info` names one)%s\n",
                  path.c_str(), result.input_crossing_pairs,

@@ -188,6 +188,59 @@ TEST_CASE("count_at_crossings counts the flipped faces whose closest input face 
   CHECK(count_at_crossings(remeshed, folds.flipped, surface, crossing) == 0);
 }
 
+TEST_CASE("count_turned_over counts the faces more than 90 degrees from a face across an edge", "[remesh][surface_fit]") {
+  auto all_faces = [](const TriangleMesh& m) {
+    std::vector<std::uint32_t> faces(m.face_count());
+    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+    return faces;
+  };
+  SECTION("a flat grid, and one creased by 80 degrees: none; by 100 degrees: the faces along the crease") {
+    TriangleMesh grid = test::grid(5);
+    CHECK(count_turned_over(grid, all_faces(grid)) == 0);
+    CHECK(count_turned_over(grid, {}) == 0);
+    auto creased = [&](double degrees) {
+      TriangleMesh m = grid;
+      const double angle = degrees * std::acos(-1.0) / 180;
+      for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        const double x = m.positions[3 * v] - 0.5;
+        if (x <= 0) continue;
+        m.positions[3 * v] = 0.5 + x * std::cos(angle), m.positions[3 * v + 2] = x * std::sin(angle);
+      }
+      return m;
+    };
+    CHECK(count_turned_over(creased(80), all_faces(grid)) == 0);
+    const TriangleMesh sharp = creased(100);
+    CHECK(count_turned_over(sharp, all_faces(grid)) == 8);  // the 4 rows of squares: one face each side of the crease
+    CHECK(count_turned_over(sharp, std::vector<std::uint32_t>{0}) == 0);  // a face away from it
+  }
+  SECTION("a vertex pushed past its neighbours: the faces it turns over count, each against one it did not") {
+    TriangleMesh grid = test::grid(5);
+    grid.positions[3 * 12] = 1.1;  // the centre vertex, (0.5, 0.5) -> (1.1, 0.5), past x = 0.75 and 1
+    std::vector<std::uint32_t> inverted;
+    for (std::uint32_t f = 0; f < grid.face_count(); ++f) {
+      const std::uint32_t* t = &grid.triangles[3 * f];
+      const double* a = &grid.positions[3 * t[0]];
+      const double* b = &grid.positions[3 * t[1]];
+      const double* c = &grid.positions[3 * t[2]];
+      if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0) inverted.push_back(f);
+    }
+    REQUIRE(!inverted.empty());
+    CHECK(count_turned_over(grid, inverted) == inverted.size());
+    CHECK(count_turned_over(grid, std::vector<std::uint32_t>{0}) == 0);
+  }
+  SECTION("a remesh facing away from its input everywhere: every face flipped, none turned over") {
+    const TriangleMesh input = test::icosphere(2);
+    TriangleMesh reversed = input;
+    for (std::size_t f = 0; f < reversed.face_count(); ++f) std::swap(reversed.triangles[3 * f + 1], reversed.triangles[3 * f + 2]);
+    const FoldOvers folds = find_fold_overs(reversed, SurfaceQuery(input));
+    REQUIRE(folds.flipped.size() == input.face_count());
+    CHECK(count_turned_over(reversed, folds.flipped) == 0);
+    TriangleMesh one = input;  // one face turned alone: it, not its neighbours, is on the list
+    std::swap(one.triangles[1], one.triangles[2]);
+    CHECK(count_turned_over(one, find_fold_overs(one, SurfaceQuery(input)).flipped) == 1);
+  }
+}
+
 TEST_CASE("round_to_float mends a face that rounding turns to the other wall of a groove", "[remesh][surface_fit]") {
   // A narrow groove along the x axis: two walls whose normals face into it and away from each
   // other, (0, 1, 0.3) and (0, -1, 0.3). A small face whose centroid lies a hair (1e-13) on wall

@@ -240,6 +240,11 @@ struct RemeshResult {
   /// crossing face (self_intersection.h: faces_near_marked), where the remesh turns from one
   /// sheet to the other too. Reported only: the remesher's choices count the ones above.
   std::size_t flipped_near_input_crossings = 0;
+  /// Of all the flipped triangles, those turned over on the remesh itself: more than 90° from a
+  /// face that shares an edge with them (surface_fit.h: count_turned_over). The others lie in
+  /// line with their neighbours and face away only from the input's closest point (at a
+  /// crossing, on the other sheet). Reported only.
+  std::size_t flipped_turned_over = 0;
   /// Input vertices at exactly the position of another (validate.h's duplicate_vertices): an
   /// unwelded seam or pieces, which the remesh keeps apart (each side of a seam a boundary).
   std::size_t coincident_vertices = 0;

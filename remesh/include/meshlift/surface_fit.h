@@ -83,6 +83,13 @@ FoldOvers find_fold_overs(const TriangleMesh& remeshed, const SurfaceQuery& surf
 std::size_t count_at_crossings(const TriangleMesh& remeshed, std::span<const std::uint32_t> flipped,
                                const SurfaceQuery& surface, std::span<const std::uint8_t> crossing);
 
+/// How many of the faces `faces` of `remeshed` are turned over on the remesh itself: their normal
+/// makes more than 90° with the normal of a face that shares an edge with them (a visible fold).
+/// A flipped face (find_fold_overs()) that is not lies in line with its neighbours and faces away
+/// only from the input's normal at its closest point: where the input passes through itself,
+/// the other sheet's.
+std::size_t count_turned_over(const TriangleMesh& remeshed, std::span<const std::uint32_t> faces);
+
 /// Whether the surface face closest to the centroid of face t of the xyz array x (the flip
 /// test's reference, faces_away()) is marked in `marked` (per surface face): count_at_crossings()
 /// for one face.
