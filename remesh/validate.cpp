@@ -460,6 +460,26 @@ std::string first_problem_for_triangle_codec(const MeshReport& r) {
   return "";
 }
 
+std::string how_to_repair(const MeshReport& r) {
+  // The cases of first_problem_for_triangle_codec(), in its order.
+  if (!r.structure_error.empty()) return "";
+  if (r.faces == 0)
+    return r.vertices == 0 ? "" : "a point cloud, or a file whose faces were not written: meshlift codes surfaces; "
+                                  "reconstruct one from the points first (a surface reconstruction, e.g. screened Poisson)";
+  if (r.invalid_index_faces > 0) return "the file is damaged or its faces count their vertices otherwise: write it again";
+  if (r.non_triangle_faces > 0) return "split the faces into triangles first (the CLI and to_triangle_mesh() do)";
+  if (r.degenerate_faces > 0) return "remove the faces that name a vertex twice (they have no area)";
+  if (r.non_finite_vertices > 0) return "remove those vertices and their faces, or give them coordinates";
+  if (r.non_manifold_edges > 0)
+    return "keep at most two faces on each edge: remove the extra faces, or give them vertices of their own (a piece apart)";
+  if (r.non_manifold_vertices > 0)
+    return "give each fan of faces its own copy of the vertex (pieces that only touch there become separate), or "
+           "remove the pieces that meet there";
+  if (!r.orientable) return "a one-sided surface (a Moebius strip) has no consistent orientation: cut it open where it twists";
+  if (!r.consistently_oriented) return "turn the faces written the other way over, so that every edge is run both ways";
+  return "";
+}
+
 void add_self_intersections(const PolygonMesh& mesh, MeshReport& report) {
   if (!first_problem_for_triangle_codec(report).empty()) return;
   // Beyond float range the BVH cannot hold the mesh (self_intersection.h): not checked.

@@ -91,6 +91,16 @@ std::optional<RemeshResult> remesh_for_cli(const std::string& path, const Triang
     return remesh(input, o);
   } catch (const MeshError& e) {
     std::cerr << "meshlift: " << path << ": " << e.what() << "\n";
+    // What to do, where the input is not a mesh the remesher takes: --weld or --orient if that
+    // repairs it, else the repair its problem asks for.
+    const MeshReport report = validate_mesh(input);
+    if (!first_problem_for_triangle_codec(report).empty()) {
+      const RepairAdvice advice = repair_advice(input, report);
+      const std::string hint = advice.problem.empty() && !advice.flags.empty()
+                                   ? advice.flags + " repairs it: run the command again with " + advice.flags
+                                   : how_to_repair(report);
+      if (!hint.empty()) std::cerr << "meshlift: " << path << ": what to do: " << hint << "\n";
+    }
     return std::nullopt;
   }
 }

@@ -458,3 +458,20 @@ TEST_CASE("text and JSON reports", "[validate]") {
   broken.structure_error = "quote \" and newline \n";
   REQUIRE(JsonChecker(to_json(broken)).valid());
 }
+
+TEST_CASE("how_to_repair answers the problem first_problem_for_triangle_codec names, and nothing for a good mesh", "[validate]") {
+  CHECK(how_to_repair(validate_mesh(test::icosahedron())).empty());
+  MeshReport r = validate_mesh(test::icosahedron());
+  r.consistently_oriented = false;
+  CHECK_THAT(how_to_repair(r), Catch::Contains("every edge is run both ways"));
+  r.orientable = false;  // comes first, as in first_problem_for_triangle_codec
+  CHECK_THAT(how_to_repair(r), Catch::Contains("one-sided"));
+  r.non_manifold_vertices = 1;
+  CHECK_THAT(how_to_repair(r), Catch::Contains("its own copy of the vertex"));
+  r.non_manifold_edges = 1;
+  CHECK_THAT(how_to_repair(r), Catch::Contains("at most two faces on each edge"));
+  r.faces = 0;
+  CHECK_THAT(how_to_repair(r), Catch::Contains("point cloud"));
+  r.vertices = 0;
+  CHECK(how_to_repair(r).empty());  // an empty mesh: nothing to say beyond "mesh is empty"
+}

@@ -174,6 +174,37 @@ TEST_CASE("CLI: malformed meshes give the documented message through info and en
   CHECK(s.temporaries().empty());
 }
 
+TEST_CASE("CLI: a mesh the remesher refuses gets a line saying what to do", "[cli][hostile]") {
+  Scratch s("what_to_do");
+  struct Case {
+    const char* name;
+    const char* text;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"points.off", "OFF\n4 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n", "what to do: a point cloud"},
+      {"fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n",
+       "what to do: keep at most two faces on each edge"},
+      {"pinched.off", "OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n-1 0 0\n0 -1 0\n3 0 1 2\n3 0 3 4\n",
+       "what to do: give each fan of faces its own copy of the vertex"},
+      {"flipped.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 3 2\n",
+       "what to do: --orient repairs it: run the command again with --orient"},
+  };
+  for (const Case& c : cases)
+    for (const char* command : {"remesh ", "encode "}) {
+      const Run run = run_cli(command + s.file(c.name, c.text) + " -o " + s.path("out.ply"));
+      INFO(command << c.name << ":\n" << run.output);
+      CHECK(run.exit_code == 3);
+      CHECK_THAT(run.output, Catch::Contains(s.path(c.name) + ": " + c.says));
+    }
+  // A refusal for another reason than the mesh's validity says nothing more.
+  const Run flat = run_cli("remesh " + s.file("line.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n3 0 1 2\n3 0 2 3\n") +
+                           " -o " + s.path("out.ply"));
+  CHECK(flat.exit_code == 3);
+  CHECK_THAT(flat.output, !Catch::Contains("what to do"));
+  CHECK(s.temporaries().empty());
+}
+
 TEST_CASE("CLI: --weld joins an unwelded cube's faces into one closed surface before remeshing", "[cli][hostile]") {
   Scratch s("weld");
   const std::string input = s.file("pieces.off", "OFF\n24 6 0\n0 0 0\n0 1 0\n1 1 0\n1 0 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n0 0 0\n1 0 0\n1 0 1\n0 0 1\n1 0 0\n1 1 0\n1 1 1\n1 0 1\n1 1 0\n0 1 0\n0 1 1\n1 1 1\n0 1 0\n0 0 0\n0 0 1\n0 1 1\n4 0 1 2 3\n4 4 5 6 7\n4 8 9 10 11\n4 12 13 14 15\n4 16 17 18 19\n4 20 21 22 23\n");

@@ -130,6 +130,12 @@ void add_self_intersections(const PolygonMesh& mesh, MeshReport& report);
 /// "3 non-manifold edges" or "face 17 has 4 corners: triangles required".
 std::string first_problem_for_triangle_codec(const MeshReport& report);
 
+/// What to do about the problem first_problem_for_triangle_codec() names (the same one, found in
+/// the same order), in one line, e.g. "keep at most two faces on each edge: ..."; "" when there
+/// is none or no advice beyond the problem itself. (A caller that can weld or orient, as the CLI
+/// can, checks first whether that repairs the mesh.)
+std::string how_to_repair(const MeshReport& report);
+
 /// Human-readable report, one aligned "name: value" line per field, then the components
 /// (the 10 largest).
 std::string to_text(const MeshReport& report);
