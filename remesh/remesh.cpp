@@ -626,7 +626,9 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     }
     return *by_crossing_faces;
   };
-  auto note_crossings = [&](RemeshResult& result) {
+  // `returned`: the result remesh() returns, whose flipped faces turned over on the remesh itself
+  // are counted too (a report only, not made for every candidate).
+  auto note_crossings = [&](RemeshResult& result, bool returned = false) {
     const std::vector<std::uint8_t>& crossing = crossing_marks();
     result.input_crossing_pairs = input_crossings->size();
     result.coincident_vertices = checked.duplicate_vertices;
@@ -635,7 +637,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     if (result.flipped_triangles == 0) return;
     const TriangleMesh finest = result.mesh.finest();
     const std::vector<std::uint32_t> flipped = find_fold_overs(finest, surface).flipped;
-    result.flipped_turned_over = count_turned_over(finest, flipped);
+    if (returned) result.flipped_turned_over = count_turned_over(finest, flipped);
     if (input_crossings->empty()) return;
     result.flipped_where_input_crosses = count_at_crossings(finest, flipped, surface, crossing);
     result.flipped_near_input_crossings = count_at_crossings(finest, flipped, surface, near_crossing_marks());
@@ -651,7 +653,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
   if (options.method == RemeshMethod::sphere) {
     RemeshResult result = by_sphere(options.levels);
     last_step(result);
-    note_crossings(result);
+    note_crossings(result, true);
     report(1);
     return result;
   }
@@ -1140,7 +1142,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     result.stage_seconds = std::move(stages);
   }
   last_step(result);
-  note_crossings(result);
+  note_crossings(result, true);
   report(1);
   return result;
 }

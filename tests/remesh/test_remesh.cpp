@@ -274,6 +274,16 @@ TEST_CASE("A small CAD input whose remesh folds is refined as it is instead", "[
   CHECK(before.folds_searched == 12);
   CHECK(before.folds_mended_by_search == 2);
   CHECK(before.flipped_triangles == before.flipped_where_input_crosses + before.flipped_near_input_crossings);
+  // The report's count of those turned over on the remesh itself is count_turned_over's of its
+  // flipped faces.
+  {
+    const TriangleMesh finest = before.mesh.finest();
+    const FoldOvers folds = find_fold_overs(finest, SurfaceQuery(input));
+    CHECK(folds.flipped.size() == before.flipped_triangles);
+    CHECK(before.flipped_turned_over == count_turned_over(finest, folds.flipped));
+    CHECK(before.flipped_turned_over > 0);
+    CHECK(before.flipped_turned_over < before.flipped_triangles);
+  }
   options.fold_search.evaluations = 0;  // without it, those two stay folded
   const RemeshResult unsearched = remesh(input, options);
   CHECK(unsearched.folds_searched == 0);
