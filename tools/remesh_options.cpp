@@ -169,14 +169,18 @@ double print_remesh_summary(const std::string& path, const TriangleMesh& input, 
                  "%s: last resort: searched the vertices around %zu folded faces the untangling left; %zu of "
                  "those searches unfolded them\n",
                  path.c_str(), result.folds_searched, result.folds_mended_by_search);
-  std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles%s\n", path.c_str(), result.flipped_triangles,
-               result.degenerate_triangles,
-               result.flipped_triangles == 0
-                   ? ""
-                   : (" (" + std::to_string(result.flipped_turned_over) +
-                      " of the flipped ones turned over against a neighbouring face, the others in line with their "
-                      "neighbours but facing away from the input's closest point)")
-                         .c_str());
+  // Which flipped faces are folds on the remesh itself (surface_fit.h: count_turned_over).
+  const std::size_t turned = result.flipped_turned_over, flipped = result.flipped_triangles;
+  const std::string folds = flipped == 0        ? ""
+                            : turned == flipped ? " (each turned over against a neighbouring face)"
+                            : turned == 0
+                                ? " (none turned over against a neighbouring face: each in line with its neighbours, "
+                                  "facing away only from the input's closest point)"
+                                : " (" + std::to_string(turned) +
+                                      " of the flipped ones turned over against a neighbouring face, the others in line "
+                                      "with their neighbours but facing away from the input's closest point)";
+  std::fprintf(stderr, "%s: %zu flipped and %zu degenerate triangles%s\n", path.c_str(), flipped,
+               result.degenerate_triangles, folds.c_str());
   if (result.input_crossing_pairs > 0)
     std::fprintf(stderr, "%s: the input passes through itself: %zu pairs of its faces cross (`meshlift info` names one)%s\n",
                  path.c_str(), result.input_crossing_pairs,
