@@ -16,6 +16,8 @@ using file_text::fail;
 PolygonMesh read_obj(const std::string& path, std::string_view text) {
   PolygonMesh mesh;
   bool every_vertex_coloured = true;
+  // Lines of the kinds a mesh of positions, faces and colours leaves out, counted for not_read.
+  std::size_t texture_lines = 0, normal_lines = 0, material_lines = 0, other_lines = 0;
   text = file_text::without_byte_order_mark(text);
   std::size_t at = 0, line_number = 0;
   while (at < text.size()) {
@@ -61,9 +63,24 @@ PolygonMesh read_obj(const std::string& path, std::string_view text) {
       }
       if (mesh.face_indices.size() == first) fail(path, "face " + std::to_string(mesh.face_count()) + " has no corners");
       mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
+    } else if (keyword == "vt") {
+      ++texture_lines;
+    } else if (keyword == "vn") {
+      ++normal_lines;
+    } else if (keyword == "mtllib" || keyword == "usemtl") {
+      ++material_lines;
+    } else if (keyword == "l" || keyword == "p" || keyword == "vp" || keyword == "curv" || keyword == "surf") {
+      ++other_lines;
     }
   }
   if (!every_vertex_coloured || mesh.colors.empty()) mesh.colors = {};
+  const auto note = [&](std::size_t lines, const char* what) {
+    if (lines > 0) mesh.not_read.push_back(std::string(what) + " (" + std::to_string(lines) + (lines == 1 ? " line)" : " lines)"));
+  };
+  note(texture_lines, "texture coordinates (OBJ vt)");
+  note(normal_lines, "normals (OBJ vn)");
+  note(material_lines, "materials (OBJ mtllib, usemtl)");
+  note(other_lines, "points, lines, curves or surfaces (OBJ p, l, vp, curv, surf)");
   return mesh;
 }
 

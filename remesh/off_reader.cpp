@@ -257,6 +257,8 @@ PolygonMesh read_off(const std::string& path, std::string_view text) {
     mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_indices.size()));
     tokens.skip_rest_of_line(token.line);  // the face colour, if any
   }
+  if (layout.normal) mesh.not_read.push_back("normals (" + layout.keyword + ")");
+  if (layout.texture) mesh.not_read.push_back("texture coordinates (" + layout.keyword + ")");
   return mesh;
 }
 

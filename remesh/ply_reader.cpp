@@ -453,6 +453,18 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
   }
   // Colours on one vertex element of several: not one per vertex, so none.
   if (mesh.colors.size() != mesh.positions.size()) mesh.colors = {};
+  // What was read past: other properties of the vertices and faces, other elements.
+  for (const Element& e : h.elements) {
+    if (e.count == 0) continue;
+    if (e.name != "vertex" && e.name != "face") {
+      mesh.not_read.push_back("PLY element " + e.name + " (" + std::to_string(e.count) + ")");
+      continue;
+    }
+    std::string names;
+    for (const Property& p : e.properties)
+      if (p.role == Role::skip) names += (names.empty() ? "" : ", ") + p.name;
+    if (!names.empty()) mesh.not_read.push_back("PLY " + e.name + " properties " + names);
+  }
   return mesh;
 }
 

@@ -62,7 +62,14 @@ bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
 
 std::optional<PolygonMesh> load_mesh(const std::string& path) {
   try {
-    return read_mesh(path);
+    PolygonMesh mesh = read_mesh(path);
+    if (!mesh.not_read.empty()) {
+      std::string kinds;
+      for (const std::string& kind : mesh.not_read) kinds += (kinds.empty() ? "" : "; ") + kind;
+      std::cerr << "meshlift: " << path << ": note: not read: " << kinds
+                << " (meshlift keeps the positions, faces and vertex colours)\n";
+    }
+    return mesh;
   } catch (const MeshIOError& e) {
     std::cerr << "meshlift: " << e.what() << "\n";  // what() starts with the path
     return std::nullopt;

@@ -40,7 +40,9 @@ bool read_bytes(const std::string& path, std::vector<std::uint8_t>& bytes, std::
 /// Writes atomically (temporary file + rename); returns false and sets `error` on failure.
 bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes, std::string& error);
 
-/// Reads an input mesh; on failure prints `meshlift: PATH: problem` and returns nullopt.
+/// Reads an input mesh; on failure prints `meshlift: PATH: problem` and returns nullopt. What the
+/// file held besides positions, faces and vertex colours gets a note (`meshlift: PATH: note: not
+/// read: texture coordinates (OBJ vt) (8 lines); ...`, PolygonMesh::not_read).
 std::optional<PolygonMesh> load_mesh(const std::string& path);
 /// `mesh` as triangles: as it is, or with its other faces split by triangulate() (triangulate.h)
 /// and a note on standard error (`meshlift: PATH: 6 quads and 0 larger polygons split into 12

@@ -312,6 +312,13 @@ TEST_CASE("meshlift info prints a report or a one-line error", "[mesh_io][cli]")
   write_bytes(dir.file("stream.mlz"), "MLZ");  // a .mlz cut inside its file header
   REQUIRE(run(dir.file("stream.mlz")) == 3);
   REQUIRE_THAT(read_bytes(err), Catch::Contains("truncated (error 1)"));
+  // What the file holds besides positions, faces and colours: a note on stderr, the report as ever.
+  write_bytes(dir.file("textured.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\n");
+  REQUIRE(run(dir.file("textured.obj")) == 0);
+  REQUIRE(read_bytes(err) == "meshlift: " + dir.file("textured.obj") +
+                                 ": note: not read: texture coordinates (OBJ vt) (1 line); normals (OBJ vn) (1 line) "
+                                 "(meshlift keeps the positions, faces and vertex colours)\n");
+  REQUIRE_THAT(read_bytes(out), Catch::Contains("faces:                   1"));
 }
 
 TEST_CASE("vertex colours are read and written in PLY, OFF and OBJ, as bytes", "[mesh_io]") {
@@ -411,4 +418,36 @@ TEST_CASE("colours in the forms other tools write them", "[mesh_io]") {
   REQUIRE(read_mesh(dir.file("g.obj")).colors.empty());
   write_bytes(dir.file("h.obj"), "v 0 0 0 1\nv 1 0 0 1\nv 0 1 0 1\nf 1 2 3\n");
   REQUIRE(read_mesh(dir.file("h.obj")).colors.empty());
+}
+
+TEST_CASE("what a file holds besides positions, faces and vertex colours is listed as not read", "[mesh_io]") {
+  ScratchDir dir("not_read");
+  // OBJ: texture coordinates, normals and materials, counted by lines.
+  write_bytes(dir.file("a.obj"), "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+                                 "usemtl m\nf 1/1/1 2/2/1 3/3/1\n");
+  const PolygonMesh obj = read_mesh(dir.file("a.obj"));
+  CHECK(obj.face_count() == 1);
+  CHECK(obj.not_read == std::vector<std::string>{"texture coordinates (OBJ vt) (3 lines)", "normals (OBJ vn) (1 line)",
+                                                 "materials (OBJ mtllib, usemtl) (2 lines)"});
+  // PLY: the vertices' and faces' other properties by name, other elements with their counts
+  // (an empty one is nothing left out); colours are read, so not listed.
+  write_bytes(dir.file("a.ply"),
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property float nx\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n"
+              "property list uchar int vertex_indices\nproperty list uchar float texcoord\nelement material 2\n"
+              "property float shine\nelement edge 0\nproperty int vertex1\nend_header\n"
+              "0 0 0 1 0 0 0\n1 0 0 1 0 0 0\n0 1 0 1 0 0 0\n3 0 1 2 6 0 0 1 0 0 1\n0.5\n0.25\n");
+  const PolygonMesh ply = read_mesh(dir.file("a.ply"));
+  CHECK(ply.colors.size() == 9);
+  CHECK(ply.not_read ==
+        std::vector<std::string>{"PLY vertex properties nx", "PLY face properties texcoord", "PLY element material (2)"});
+  // OFF: the header's normals and texture coordinates.
+  write_bytes(dir.file("a.off"), "STNOFF\n3 1 0\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n0 1 0 0 0 1 0 1\n3 0 1 2\n");
+  CHECK(read_mesh(dir.file("a.off")).not_read ==
+        std::vector<std::string>{"normals (STNOFF)", "texture coordinates (STNOFF)"});
+  // Nothing else: nothing listed.
+  write_bytes(dir.file("b.off"), "COFF\n3 1 0\n0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n");
+  CHECK(read_mesh(dir.file("b.off")).not_read.empty());
+  write_bytes(dir.file("b.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  CHECK(read_mesh(dir.file("b.obj")).not_read.empty());
 }

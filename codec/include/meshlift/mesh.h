@@ -32,6 +32,10 @@ struct PolygonMesh {
   /// Per-vertex colours, if the file had them: red, green, blue of each vertex in [0, 1]
   /// (3 per vertex), else empty.
   std::vector<double> colors;
+  /// What else the file held, which the mesh does not carry (mesh_io.h: read_mesh), one entry per
+  /// kind, e.g. "texture coordinates (OBJ vt)" or "PLY vertex properties nx, ny, nz"; empty when
+  /// nothing was left out.
+  std::vector<std::string> not_read;
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }

@@ -26,6 +26,11 @@ class MeshIOError : public std::runtime_error {
 /// the text formats and of PLY `float` properties are parsed as 32-bit floats (rounded as strtof
 /// rounds); PLY `double` properties are kept as doubles.
 ///
+/// Positions, faces and vertex colours are read; what else the file holds is read past and
+/// listed in PolygonMesh::not_read (OBJ texture coordinates, normals, materials, points, lines
+/// and free-form geometry, by lines; PLY vertex and face properties by name, other elements with
+/// their counts; OFF normals and texture coordinates its header declares).
+///
 /// Each reader checks every count against the bytes of the file before it reserves anything,
 /// and names the element, line or item of a problem; the grammars they accept are in their
 /// headers. Readers hold no shared state: any number may run at once.
