@@ -110,7 +110,8 @@ std::vector<double> area_samples(const TriangleMesh& m, std::size_t samples, std
   return points;
 }
 
-SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads)
+SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads,
+                               bool vertices)
     : query_(mesh) {
   const TriangleMesh& m = query_.mesh();
 
@@ -120,7 +121,8 @@ SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, st
   for (char u : used) used_count += u;
   points_ = meshlift::area_samples(m, samples, seed, threads);
   area_samples_ = points_.size() / 3;
-  points_.resize(3 * (area_samples_ + used_count));
+  const bool vertex_points = vertices || area_samples_ == 0;
+  if (vertex_points) points_.resize(3 * (area_samples_ + used_count));
 
   double low[3], high[3];
   for (int k = 0; k < 3; ++k) low[k] = std::numeric_limits<double>::infinity(), high[k] = -low[k];
@@ -129,7 +131,7 @@ SampledSurface::SampledSurface(const TriangleMesh& mesh, std::size_t samples, st
     if (!used[v]) continue;
     for (int k = 0; k < 3; ++k) {
       const double x = m.positions[3 * v + k];
-      points_[3 * next + k] = x;
+      if (vertex_points) points_[3 * next + k] = x;
       low[k] = std::min(low[k], x);
       high[k] = std::max(high[k], x);
     }
@@ -164,7 +166,7 @@ SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMe
       options.samples > 0 ? options.samples : default_sample_count(reference.face_count(), test.face_count());
   auto prepare = [&](const TriangleMesh& mesh, const char* which, std::uint64_t seed) {
     try {
-      return SampledSurface(mesh, samples, seed, options.threads);
+      return SampledSurface(mesh, samples, seed, options.threads, options.vertices);
     } catch (const MeshError& e) {
       throw MeshError(std::string(which) + " mesh: " + e.what());
     }

@@ -86,10 +86,12 @@ constexpr std::size_t kQuickSamples = 20'000;
 constexpr std::size_t kMissingPartsPerRound = 8;
 constexpr double kMissingPartSpacing = 0.05;
 
-/// PSNR of a mesh against the input on `samples` area samples a side.
+/// PSNR of a mesh against the input on `samples` area samples a side (the vertices, which enter
+/// only the Hausdorff distance, are not queried).
 double remesh_psnr(const TriangleMesh& input, const TriangleMesh& remeshed, std::size_t samples = kChoiceSamples) {
   MetricOptions metric;
   metric.samples = samples;
+  metric.vertices = false;
   return surface_distance(input, remeshed, metric).psnr_db();
 }
 double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, std::size_t samples = kChoiceSamples) {
@@ -1133,8 +1135,10 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
                std::abs(std::log(std::pow(4.0, sphere_levels + 1) + 2) - std::log(target)))
       ++sphere_levels;
     RemeshResult sphere = by_sphere(sphere_levels);
-    const bool sphere_closer =
-        surface_distance(mesh, sphere.mesh.finest()).rms < surface_distance(mesh, result.mesh.finest()).rms;
+    MetricOptions rms_only;
+    rms_only.vertices = false;
+    const bool sphere_closer = surface_distance(mesh, sphere.mesh.finest(), rms_only).rms <
+                               surface_distance(mesh, result.mesh.finest(), rms_only).rms;
     // Both remeshes' times, whichever is kept.
     std::vector<std::pair<std::string, double>> stages = std::move(result.stage_seconds);
     stages.insert(stages.end(), sphere.stage_seconds.begin(), sphere.stage_seconds.end());

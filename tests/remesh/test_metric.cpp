@@ -163,6 +163,28 @@ TEST_CASE("metric results are identical across runs and thread counts", "[metric
   REQUIRE(other_seed.rms == Approx(one.rms).epsilon(0.01));
 }
 
+TEST_CASE("metric without its vertices: the same RMS, mean and PSNR, the maxima over the area samples", "[metric]") {
+  const TriangleMesh a = meshlift::test::perturbed(meshlift::test::torus(40, 30), 0.01, 4);
+  const TriangleMesh b = meshlift::test::perturbed(meshlift::test::torus(25, 18), 0.03, 5);
+  MetricOptions options{20000, 2};
+  const SurfaceDistance with = surface_distance(a, b, options);
+  options.vertices = false;
+  const SurfaceDistance without = surface_distance(a, b, options);
+  CHECK(without.rms == with.rms);
+  CHECK(without.mean == with.mean);
+  CHECK(without.psnr_db() == with.psnr_db());
+  CHECK(without.diagonal == with.diagonal);
+  CHECK(without.reference_to_test.vertex_samples == 0);
+  CHECK(with.reference_to_test.vertex_samples == a.vertex_count());
+  CHECK(without.hausdorff <= with.hausdorff);
+  // A mesh without area has its vertices as its only points either way.
+  TriangleMesh flat = meshlift::test::grid(3);
+  for (std::size_t v = 0; v < flat.vertex_count(); ++v) flat.positions[3 * v + 1] = 0;  // every face on a line
+  const SurfaceDistance line = surface_distance(flat, a, options);
+  CHECK(line.reference_to_test.vertex_samples == flat.vertex_count());
+  CHECK(line.reference_to_test.rms > 0);
+}
+
 TEST_CASE("metric estimate converges to the exact L2 distance of a tilted plane", "[metric]") {
   // Reference z = 0 over [0,1]^2, test z = s·x on the same grid: the test→reference distance of a
   // point is s·x / 1 (its height), integrated over the tilted surface: mean = s/2, rms = s/sqrt(3).

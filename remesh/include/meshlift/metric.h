@@ -22,6 +22,9 @@ struct MetricOptions {
   unsigned threads = 0;
   /// Seed of the sample positions (a counter-based generator: sample i depends only on seed, i).
   std::uint64_t seed = 0x6d657472696300ULL;
+  /// Whether the vertices are points too. They enter the maxima only (Hausdorff): a caller that
+  /// needs the RMS, mean or PSNR alone gets the same values without them, for fewer queries.
+  bool vertices = true;
 };
 
 /// Default area samples per surface: 10 per face of the larger mesh (Metro's default density),
@@ -67,12 +70,15 @@ struct SurfaceDistance {
 /// once lets one reference be compared with many test meshes (the rate-distortion sweep).
 class SampledSurface {
  public:
+  /// With `vertices` false the vertices are not points (MetricOptions::vertices), unless the
+  /// mesh has no area (then they are its only points).
   /// \throw MeshError if the mesh has no faces or bad coordinates / indices (SurfaceQuery).
-  SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads = 0);
+  SampledSurface(const TriangleMesh& mesh, std::size_t samples, std::uint64_t seed, unsigned threads = 0,
+                 bool vertices = true);
 
   const SurfaceQuery& query() const { return query_; }
   const TriangleMesh& mesh() const { return query_.mesh(); }
-  /// Area samples as xyz triples, then the vertices used by faces, in index order.
+  /// Area samples as xyz triples, then the vertices used by faces, in index order (if they are points).
   const std::vector<double>& points() const { return points_; }
   std::size_t area_samples() const { return area_samples_; }
   double diagonal() const { return diagonal_; }
