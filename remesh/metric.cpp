@@ -159,22 +159,40 @@ SurfaceDistance surface_distance(const SampledSurface& reference, const SampledS
   return result;
 }
 
+namespace {
+
+/// The samples of one side of surface_distance(reference, test), errors named by the side.
+SampledSurface sampled(const TriangleMesh& mesh, const char* which, std::size_t samples, std::uint64_t seed,
+                       const MetricOptions& options) {
+  try {
+    return SampledSurface(mesh, samples, seed, options.threads, options.vertices);
+  } catch (const MeshError& e) {
+    throw MeshError(std::string(which) + " mesh: " + e.what());
+  }
+}
+
+std::size_t sample_count(const TriangleMesh& reference, const TriangleMesh& test, const MetricOptions& options) {
+  return options.samples > 0 ? options.samples : default_sample_count(reference.face_count(), test.face_count());
+}
+
+// Different seeds for the two surfaces, so identical meshes are not sampled at identical points.
+constexpr std::uint64_t kTestSeed = 0x5555555555555555ULL;
+
+}  // namespace
+
+SurfaceDistance surface_distance(const SampledSurface& reference, const TriangleMesh& test, const MetricOptions& options) {
+  if (test.face_count() == 0) throw MeshError("test mesh has no faces");
+  const SampledSurface test_surface =
+      sampled(test, "test", sample_count(reference.mesh(), test, options), options.seed ^ kTestSeed, options);
+  return surface_distance(reference, test_surface, options.threads);
+}
+
 SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMesh& test, const MetricOptions& options) {
   if (reference.face_count() == 0) throw MeshError("reference mesh has no faces");
   if (test.face_count() == 0) throw MeshError("test mesh has no faces");
-  const std::size_t samples =
-      options.samples > 0 ? options.samples : default_sample_count(reference.face_count(), test.face_count());
-  auto prepare = [&](const TriangleMesh& mesh, const char* which, std::uint64_t seed) {
-    try {
-      return SampledSurface(mesh, samples, seed, options.threads, options.vertices);
-    } catch (const MeshError& e) {
-      throw MeshError(std::string(which) + " mesh: " + e.what());
-    }
-  };
-  // Different seeds for the two surfaces, so identical meshes are not sampled at identical points.
-  const SampledSurface reference_surface = prepare(reference, "reference", options.seed);
-  const SampledSurface test_surface = prepare(test, "test", options.seed ^ 0x5555555555555555ULL);
-  return surface_distance(reference_surface, test_surface, options.threads);
+  const SampledSurface reference_surface =
+      sampled(reference, "reference", sample_count(reference, test, options), options.seed, options);
+  return surface_distance(reference_surface, test, options);
 }
 
 }  // namespace meshlift

@@ -29,6 +29,7 @@
 #include <functional>
 #include <future>
 #include <iterator>
+#include <map>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -86,17 +87,29 @@ constexpr std::size_t kQuickSamples = 20'000;
 constexpr std::size_t kMissingPartsPerRound = 8;
 constexpr double kMissingPartSpacing = 0.05;
 
-/// PSNR of a mesh against the input on `samples` area samples a side (the vertices, which enter
-/// only the Hausdorff distance, are not queried).
-double remesh_psnr(const TriangleMesh& input, const TriangleMesh& remeshed, std::size_t samples = kChoiceSamples) {
-  MetricOptions metric;
-  metric.samples = samples;
-  metric.vertices = false;
-  return surface_distance(input, remeshed, metric).psnr_db();
-}
-double remesh_psnr(const TriangleMesh& input, const SemiRegularMesh& remeshed, std::size_t samples = kChoiceSamples) {
-  return remesh_psnr(input, remeshed.finest(), samples);
-}
+/// PSNRs of remeshes against the input on `samples` area samples a side, without the vertices
+/// (they enter only the Hausdorff distance: MetricOptions::vertices): surface_distance()'s
+/// values, with the input's samples made once per sample count for all the remeshes compared.
+class InputPsnr {
+ public:
+  explicit InputPsnr(const TriangleMesh& input) : input_(input) {}
+  double operator()(const TriangleMesh& remeshed, std::size_t samples = kChoiceSamples) {
+    MetricOptions metric;
+    metric.samples = samples;
+    metric.vertices = false;
+    auto at = sampled_.find(samples);
+    if (at == sampled_.end())
+      at = sampled_.emplace(samples, SampledSurface(input_, samples, metric.seed, metric.threads, metric.vertices)).first;
+    return surface_distance(at->second, remeshed, metric).psnr_db();
+  }
+  double operator()(const SemiRegularMesh& remeshed, std::size_t samples = kChoiceSamples) {
+    return (*this)(remeshed.finest(), samples);
+  }
+
+ private:
+  const TriangleMesh& input_;
+  std::map<std::size_t, SampledSurface> sampled_;  // by sample count
+};
 
 /// Puts the vertices of `guide` (xyz per vertex of the finest level) that `features` places on
 /// the feature lines at their places there (features.h).
@@ -302,7 +315,7 @@ std::optional<RemeshResult> input_refinement(const TriangleMesh& mesh, const Sur
 /// receives the placement's PSNR (kQuickSamples a side) when it stops there, kNowhere when it
 /// stops at its guides. kNever, kNowhere: never.
 std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const SurfaceQuery& surface,
-                                                 const DecimateResult& decimated, std::size_t asked_base,
+                                                 InputPsnr& remesh_psnr, const DecimateResult& decimated, std::size_t asked_base,
                                                  const FeatureLines& lines, int levels,
                                                  BaseFit fit, int least_squares_rounds, bool snap, double abandon_below,
                                                  double set_aside_at, double set_aside_guide_at, double give_up_margin,
@@ -372,7 +385,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   }
   if (set_aside_guide_at < kNowhere)
     for (const std::vector<double>& guide : guides)
-      if (remesh_psnr(mesh, TriangleMesh{guide, h.triangles(h.levels())}, kQuickSamples) >= set_aside_guide_at) {
+      if (remesh_psnr(TriangleMesh{guide, h.triangles(h.levels())}, kQuickSamples) >= set_aside_guide_at) {
         clock.lap("guides, then set aside");
         if (placed_psnr) *placed_psnr = kNowhere;
         return std::nullopt;
@@ -426,8 +439,8 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
         continue;
       }
       // A tie: the closer to the input.
-      if (!chosen_psnr) chosen_psnr = remesh_psnr(mesh, *chosen->mesh);
-      if (const double psnr = remesh_psnr(mesh, *candidate.mesh); psnr > *chosen_psnr)
+      if (!chosen_psnr) chosen_psnr = remesh_psnr(*chosen->mesh);
+      if (const double psnr = remesh_psnr(*candidate.mesh); psnr > *chosen_psnr)
         chosen = std::move(candidate), chosen_psnr = psnr;
     }
     return std::move(*chosen);
@@ -440,7 +453,7 @@ std::optional<RemeshResult> remesh_by_decimation(const TriangleMesh& mesh, const
   place_each_guide(true);
   Placed placed = best_of(candidates);
   if (abandon_below > kNever || set_aside_at < kNowhere) {
-    const double placed_db = remesh_psnr(mesh, *placed.mesh, kQuickSamples);
+    const double placed_db = remesh_psnr(*placed.mesh, kQuickSamples);
     const bool set_aside = placed_db >= set_aside_at;
     if (set_aside || placed_db + give_up_margin < abandon_below) {
       clock.lap(set_aside ? "place, then set aside" : "place, then give up");
@@ -583,6 +596,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
   }
 
   const SurfaceQuery surface(mesh);
+  InputPsnr input_psnr(mesh);  // the automatic choices' PSNRs against the input (one thread)
   auto by_sphere = [&](int levels) {
     std::vector<std::pair<std::string, double>> sphere_stages;
     StageClock clock(sphere_stages);
@@ -704,7 +718,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     const std::size_t asked =
         options.base_vertices != 0 ? options.base_vertices : base_from_density(mesh.vertex_count(), options.levels, density);
     std::optional<RemeshResult> r = remesh_by_decimation(
-        mesh, surface, decimated, asked, with, options.levels, options.fit, options.least_squares_rounds, options.snap, abandon_below,
+        mesh, surface, input_psnr, decimated, asked, with, options.levels, options.fit, options.least_squares_rounds, options.snap, abandon_below,
         set_aside_at, set_aside_at < kNowhere ? options.sparsest_guide_psnr : kNowhere, options.give_up_margin, placed_psnr,
         [&](double f) { report(from + (to - from) * f); }, stages);
     if (r && !r->input_refined) r->target_base_vertices = options.base_vertices != 0 ? options.base_vertices : base_size(density);
@@ -728,7 +742,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
   // Errors measured on kChoiceSamples a side.
   auto psnr = [&](const RemeshResult& r) {
     StageClock clock(stages);
-    const double db = remesh_psnr(mesh, r.mesh);
+    const double db = input_psnr(r.mesh);
     clock.lap("choose density");
     return db;
   };

@@ -215,3 +215,15 @@ TEST_CASE("metric rejects empty meshes and warns on wildly different scales", "[
   for (double& x : slightly.positions) x *= 50;
   REQUIRE(surface_distance(sphere, slightly, {5000, 2}).warning.empty());
 }
+
+TEST_CASE("metric against a reference sampled once gives the two-mesh values", "[metric]") {
+  const TriangleMesh a = meshlift::test::perturbed(meshlift::test::torus(40, 30), 0.01, 4);
+  for (const TriangleMesh& b : {meshlift::test::perturbed(meshlift::test::torus(25, 18), 0.03, 5),
+                                meshlift::test::perturbed(meshlift::test::torus(30, 20), 0.02, 6)})
+    for (const bool vertices : {true, false}) {
+      MetricOptions options{20000, 2};
+      options.vertices = vertices;
+      const meshlift::SampledSurface reference(a, options.samples, options.seed, options.threads, options.vertices);
+      require_identical(surface_distance(a, b, options), surface_distance(reference, b, options));
+    }
+}

@@ -95,6 +95,12 @@ class SampledSurface {
 /// sums run in point order.
 SurfaceDistance surface_distance(const SampledSurface& reference, const SampledSurface& test, unsigned threads = 0);
 
+/// surface_distance(reference's mesh, test, options) with the reference's samples made already
+/// (SampledSurface(mesh, samples, options.seed, threads, options.vertices), the same samples
+/// the two-mesh form makes): for a caller that measures many meshes against one.
+/// \throw MeshError as the two-mesh form, for the test mesh.
+SurfaceDistance surface_distance(const SampledSurface& reference, const TriangleMesh& test, const MetricOptions& options);
+
 /// Surface distance between two meshes.
 /// \throw MeshError if either mesh has no faces or has non-finite coordinates / bad indices
 ///        (the message names which mesh).
