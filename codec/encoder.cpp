@@ -330,13 +330,19 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
     for (const VertexChannel& c : input.channels) {
       ChannelQuantization hc;
       hc.components = c.components;
-      double range = 0;
+      double range = 0, magnitude = 0;
       for (int k = 0; k < c.components; ++k) {
         const std::size_t i = offset + static_cast<std::size_t>(k);
         const double low = lowest[i], high = highest[i];
         hc.center.push_back(header_float(0.5 * (low + high), "channel centre", false));
         range = std::max(range, high - low);
+        magnitude = std::max({magnitude, std::abs(low), std::abs(high)});
       }
+      // A range at the values' own rounding level is none: a constant carried through
+      // interpolation (a file's one grey, 0.7529411764705882 ± an ulp, read off the input at each
+      // vertex) would get a step of ~1e-18, far finer than the values resolve, and its rounding
+      // noise coefficients past 2^31 steps.
+      if (range <= 0x1p-40 * magnitude) range = 0;
       hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
       header.channels.push_back(std::move(hc));
       offset += static_cast<std::size_t>(c.components);

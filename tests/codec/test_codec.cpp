@@ -726,6 +726,29 @@ TEST_CASE("extra channels: full-rate round trip within their step, geometry unch
   }
 }
 
+TEST_CASE("a channel constant but for rounding encodes as a constant", "[codec][channels]") {
+  // One grey read off an input at every vertex: 192/255 give or take an ulp (interpolation). Its
+  // range (~4e-16) once made a step of ~1e-18 and rounding-noise coefficients past 2^31 steps:
+  // encode refused the mesh ("precision_bits ... is too fine").
+  SemiRegularMesh mesh = bumpy(test::icosahedron(), 3);
+  const double grey = 192.0 / 255;
+  std::vector<double> values(3 * mesh.positions.size() / 3);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = i % 7 == 0 ? std::nextafter(grey, 1.0) : grey;
+  mesh.channels = {{3, values, true}};
+  const auto file = encode(mesh, {});
+  const StreamInfo info = inspect(file);
+  REQUIRE(info.channels.size() == 1);
+  CHECK(info.channels[0].step == std::ldexp(1.0, -EncodeOptions{}.channel_precision_bits));
+  const DecodeResult r = decode(file);
+  REQUIRE(r.status == Status::ok);
+  // Every value the header's centre: a float, so the grey within float rounding (~1.5e-8 here).
+  for (const double v : r.channels[0].values) CHECK(v == static_cast<double>(static_cast<float>(grey)));
+  // A channel that does vary, however little against its values, keeps its range's step.
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = grey + (i % 7 == 0 ? 1e-9 : 0.0);
+  mesh.channels = {{3, values, true}};
+  CHECK(inspect(encode(mesh, {})).channels[0].step < 1e-11);
+}
+
 TEST_CASE("a colour channel is marked in the stream and comes back marked", "[codec][channels]") {
   SemiRegularMesh mesh = with_channels(bumpy(test::icosahedron(), 3));
   std::swap(mesh.channels[0], mesh.channels[1]);  // the colour first
