@@ -340,9 +340,10 @@ std::vector<std::uint8_t> encode(const SemiRegularMesh& input, const EncodeOptio
       }
       // A range at the values' own rounding level is none: a constant carried through
       // interpolation (a file's one grey, 0.7529411764705882 ± an ulp, read off the input at each
-      // vertex) would get a step of ~1e-18, far finer than the values resolve, and its rounding
-      // noise coefficients past 2^31 steps.
-      if (range <= 0x1p-40 * magnitude) range = 0;
+      // vertex) would get a step of ~1e-19, and the values' offset from the header's float centre
+      // (up to 2^-24 of the magnitude) would be past 2^31 steps. Above 2^-30 of the magnitude that
+      // offset is below 2^(6 + channel_precision_bits) steps times the level weight: far within.
+      if (range <= 0x1p-30 * magnitude) range = 0;
       hc.step = std::ldexp(range > 0 ? range : 1.0, -options.channel_precision_bits);
       header.channels.push_back(std::move(hc));
       offset += static_cast<std::size_t>(c.components);

@@ -743,10 +743,15 @@ TEST_CASE("a channel constant but for rounding encodes as a constant", "[codec][
   REQUIRE(r.status == Status::ok);
   // Every value the header's centre: a float, so the grey within float rounding (~1.5e-8 here).
   for (const double v : r.channels[0].values) CHECK(v == static_cast<double>(static_cast<float>(grey)));
-  // A channel that does vary, however little against its values, keeps its range's step.
-  for (std::size_t i = 0; i < values.size(); ++i) values[i] = grey + (i % 7 == 0 ? 1e-9 : 0.0);
-  mesh.channels = {{3, values, true}};
-  CHECK(inspect(encode(mesh, {})).channels[0].step < 1e-11);
+  // A channel that does vary, however little against its values, keeps its range's step, and
+  // encodes: 1e-9, and just above the 2^-30 of its magnitude that counts as constant.
+  for (const double delta : {1e-9, 0x1p-29 * grey}) {
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = grey + (i % 7 == 0 ? delta : 0.0);
+    mesh.channels = {{3, values, true}};
+    const auto varied = encode(mesh, {});
+    CHECK(inspect(varied).channels[0].step < 1e-11);
+    CHECK(decode(varied).status == Status::ok);
+  }
 }
 
 TEST_CASE("a colour channel is marked in the stream and comes back marked", "[codec][channels]") {

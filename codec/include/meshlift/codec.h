@@ -34,7 +34,7 @@ struct EncodeOptions {
   int tangent_shift = 2;
   /// Extra channels (SemiRegularMesh::channels) are quantized with a step of their value range
   /// (largest minus smallest value over all their components) times 2^-channel_precision_bits;
-  /// a channel that is constant (or whose range is within 2^-40 of its largest magnitude: a
+  /// a channel that is constant (or whose range is within 2^-30 of its largest magnitude: a
   /// constant carried through interpolation) gets 2^-channel_precision_bits.
   int channel_precision_bits = 12;
   /// Code the base coefficients' top planes first, predicted from their neighbours in the base
