@@ -232,17 +232,20 @@ int run_truncate(const TruncateArgs& a) {
   std::vector<std::uint8_t> file, cut;
   if (!load_stream(a.input, file)) return kBadInput;
   const Status status = truncate_file(file, a.bytes, cut);
-  if (status != Status::ok) {
-    std::cerr << "meshlift: " << a.input << ": " << to_string(status) << " (error " << static_cast<int>(status)
-              << "): " << describe(status) << "\n";
-    return kBadInput;
-  }
-  // A cut inside the header or base mesh chunks would re-frame them as complete but short chunks,
-  // which read as corrupt: refuse it (the streaming decoder shows nothing before them either).
-  if (const DecodeResult check = decode(cut); check.status != Status::ok && decode(file).status == Status::ok) {
-    std::cerr << "meshlift: " << a.input << ": a cut at " << a.bytes
-              << " bytes falls inside the header or the base mesh, before anything decodes; `meshlift info "
-              << a.input << "` lists the chunk sizes\n";
+  // A cut inside the file header (truncate_file: truncated), or inside the header or base mesh
+  // chunks, which it would re-frame as complete but short chunks that read as corrupt, is refused
+  // (the streaming decoder shows nothing before them either) where the file itself is sound;
+  // otherwise the file's own problem is named.
+  if (status != Status::ok || decode(cut).status != Status::ok) {
+    const Status whole = decode(file).status;
+    if (whole == Status::ok) {
+      std::cerr << "meshlift: " << a.input << ": a cut at " << a.bytes
+                << " bytes falls inside the header or the base mesh, before anything decodes; `meshlift info "
+                << a.input << "` lists the chunk sizes\n";
+    } else {
+      std::cerr << "meshlift: " << a.input << ": " << to_string(whole) << " (error " << static_cast<int>(whole)
+                << "): " << describe(whole) << "\n";
+    }
     return kBadInput;
   }
   std::string error;

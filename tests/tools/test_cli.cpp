@@ -218,6 +218,14 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   REQUIRE(run("decode " + (dir / "half.mlz").string() + " -o " + (dir / "half_a.off").string()).exit_code == 0);
   REQUIRE(run("decode " + mlz + " --bytes " + std::to_string(size / 2) + " -o " + (dir / "half_b.off").string()).exit_code == 0);
   CHECK(read_file(dir / "half_a.off") == read_file(dir / "half_b.off"));
+  // A cut before anything decodes, even inside the 8-byte file header, is refused as such (not as
+  // a damaged input), and nothing is written.
+  for (const int bytes : {7, 20}) {
+    const auto early = run("truncate " + mlz + " --bytes " + std::to_string(bytes) + " -o " + (dir / "early.mlz").string());
+    CHECK(early.exit_code == 3);
+    CHECK_THAT(early.output, Catch::Contains("a cut at " + std::to_string(bytes) + " bytes falls inside the header or the base mesh"));
+    CHECK_FALSE(fs::exists(dir / "early.mlz"));
+  }
 
   const auto streamed = run("stream " + mlz + " --every 100 -o " + (dir / "frames").string() + " --reference " + fine +
                             " --csv " + (dir / "frames.csv").string());
@@ -251,6 +259,9 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   const auto not_mlz = run("decode " + tet.string() + " -o " + (dir / "x.off").string());
   CHECK(not_mlz.exit_code == 3);
   CHECK_THAT(not_mlz.output, Catch::Contains("bad_magic"));
+  const auto truncate_not_mlz = run("truncate " + tet.string() + " --bytes 7 -o " + (dir / "x.mlz").string());
+  CHECK(truncate_not_mlz.exit_code == 3);
+  CHECK_THAT(truncate_not_mlz.output, Catch::Contains("bad_magic"));
   fs::remove_all(dir);
 }
 
