@@ -453,18 +453,26 @@ PolygonMesh read_ply(const std::string& path, std::string_view bytes) {
   }
   // Colours on one vertex element of several: not one per vertex, so none.
   if (mesh.colors.size() != mesh.positions.size()) mesh.colors = {};
-  // What was read past: other properties of the vertices and faces, other elements.
+  // What was read past: other properties of the vertices and faces, other elements (their names
+  // quoted, as the file's words are in messages, and at most kListed of each kind).
+  constexpr std::size_t kListed = 8;
+  std::size_t other_elements = 0;
   for (const Element& e : h.elements) {
     if (e.count == 0) continue;
     if (e.name != "vertex" && e.name != "face") {
-      mesh.not_read.push_back("PLY element " + e.name + " (" + std::to_string(e.count) + ")");
+      if (++other_elements <= kListed)
+        mesh.not_read.push_back("PLY element " + quoted(e.name) + " (" + std::to_string(e.count) + ")");
       continue;
     }
     std::string names;
+    std::size_t skipped = 0;
     for (const Property& p : e.properties)
-      if (p.role == Role::skip) names += (names.empty() ? "" : ", ") + p.name;
-    if (!names.empty()) mesh.not_read.push_back("PLY " + e.name + " properties " + names);
+      if (p.role == Role::skip && ++skipped <= kListed) names += (names.empty() ? "" : ", ") + quoted(p.name);
+    if (skipped > kListed) names += " and " + std::to_string(skipped - kListed) + " more";
+    if (skipped > 0) mesh.not_read.push_back("PLY " + e.name + " properties " + names);
   }
+  if (other_elements > kListed)
+    mesh.not_read.push_back(std::to_string(other_elements - kListed) + " more PLY elements");
   return mesh;
 }
 

@@ -440,7 +440,16 @@ TEST_CASE("what a file holds besides positions, faces and vertex colours is list
   const PolygonMesh ply = read_mesh(dir.file("a.ply"));
   CHECK(ply.colors.size() == 9);
   CHECK(ply.not_read ==
-        std::vector<std::string>{"PLY vertex properties nx", "PLY face properties texcoord", "PLY element material (2)"});
+        std::vector<std::string>{"PLY vertex properties 'nx'", "PLY face properties 'texcoord'", "PLY element 'material' (2)"});
+  // Names as the file's words are quoted in messages, and at most 8 of a kind listed.
+  std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  for (int k = 0; k < 10; ++k) header += "property uchar p" + std::to_string(k) + (k == 0 ? "\x01" : "") + "\n";
+  header += "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string body;
+  for (int v = 0; v < 3; ++v) body += std::to_string(v == 1) + " " + std::to_string(v == 2) + " 0 0 0 0 0 0 0 0 0 0 0\n";
+  write_bytes(dir.file("many.ply"), header + body + "3 0 1 2\n");
+  CHECK(read_mesh(dir.file("many.ply")).not_read ==
+        std::vector<std::string>{"PLY vertex properties 'p0\\x01', 'p1', 'p2', 'p3', 'p4', 'p5', 'p6', 'p7' and 2 more"});
   // OFF: the header's normals and texture coordinates.
   write_bytes(dir.file("a.off"), "STNOFF\n3 1 0\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n0 1 0 0 0 1 0 1\n3 0 1 2\n");
   CHECK(read_mesh(dir.file("a.off")).not_read ==
