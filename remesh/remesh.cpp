@@ -29,8 +29,8 @@
 #include <functional>
 #include <future>
 #include <iterator>
-#include <map>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -650,7 +650,7 @@ RemeshResult remesh_levels(const TriangleMesh& mesh, const RemeshOptions& option
     result.coincident_vertices = checked.duplicate_vertices;
     result.flipped_where_input_crosses = result.flipped_near_input_crossings = 0;  // set by a fold_free() before rounding
     result.flipped_turned_over = 0;
-    if (result.flipped_triangles == 0) return;
+    if (result.flipped_triangles == 0 || (!returned && input_crossings->empty())) return;
     const TriangleMesh finest = result.mesh.finest();
     const std::vector<std::uint32_t> flipped = find_fold_overs(finest, surface).flipped;
     if (returned) result.flipped_turned_over = count_turned_over(finest, flipped);
