@@ -425,60 +425,69 @@ MeshReport validate_mesh(const TriangleMesh& mesh) {
   return validate_mesh(to_polygon_mesh(mesh));
 }
 
-std::string first_problem_for_triangle_codec(const MeshReport& r) {
-  if (!r.structure_error.empty()) return "malformed mesh arrays: " + r.structure_error;
-  if (r.faces == 0) return r.vertices == 0 ? "mesh is empty" : "mesh has no faces";
+namespace {
+
+/// The first problem of a mesh for the triangle codec and what to do about it (either empty): the
+/// one chain of checks both first_problem_for_triangle_codec() and how_to_repair() read.
+struct Problem {
+  std::string what, repair;
+};
+
+Problem first_problem(const MeshReport& r) {
+  if (!r.structure_error.empty()) return {"malformed mesh arrays: " + r.structure_error, ""};
+  if (r.faces == 0)
+    return r.vertices == 0 ? Problem{"mesh is empty", ""}
+                           : Problem{"mesh has no faces",
+                                     "a point cloud, or a file whose faces were not written: meshlift codes surfaces; "
+                                     "reconstruct one from the points first (a surface reconstruction, e.g. screened "
+                                     "Poisson)"};
   if (r.invalid_index_faces > 0)
-    return plural(r.invalid_indices, "face corner references a vertex", "face corners reference vertices") +
-           " that do not exist (first in face " + std::to_string(r.first_invalid_index_face) + ")";
+    return {plural(r.invalid_indices, "face corner references a vertex", "face corners reference vertices") +
+                " that do not exist (first in face " + std::to_string(r.first_invalid_index_face) + ")",
+            "the file is damaged or its faces count their vertices otherwise: write it again"};
   if (r.non_triangle_faces > 0) {
     std::string message = "face " + std::to_string(r.first_non_triangle_face) + " has " +
                           plural(r.first_non_triangle_face_corners, "corner", "corners") + ": triangles required";
     if (r.non_triangle_faces > 1) message += " (" + std::to_string(r.non_triangle_faces) + " non-triangle faces)";
-    return message;
+    return {message, "split the faces into triangles first (the CLI and to_triangle_mesh() do)"};
   }
   if (r.degenerate_faces > 0)
-    return plural(r.degenerate_faces, "degenerate face", "degenerate faces") + " (repeated vertex; first: face " +
-           std::to_string(r.first_degenerate_face) + ")";
+    return {plural(r.degenerate_faces, "degenerate face", "degenerate faces") + " (repeated vertex; first: face " +
+                std::to_string(r.first_degenerate_face) + ")",
+            "remove the faces that name a vertex twice (they have no area)"};
   const auto edge = [](const std::uint32_t (&e)[2]) {
     return "edge " + std::to_string(e[0]) + "-" + std::to_string(e[1]);
   };
   if (r.non_finite_vertices > 0)
-    return plural(r.non_finite_vertices, "vertex has", "vertices have") + " non-finite coordinates (first: vertex " +
-           std::to_string(r.first_non_finite_vertex) + ")";
+    return {plural(r.non_finite_vertices, "vertex has", "vertices have") + " non-finite coordinates (first: vertex " +
+                std::to_string(r.first_non_finite_vertex) + ")",
+            "remove those vertices and their faces, or give them coordinates"};
   if (r.non_manifold_edges > 0)
-    return plural(r.non_manifold_edges, "non-manifold edge", "non-manifold edges") + " (first: " +
-           edge(r.first_non_manifold_edge) + ", on more than two faces)";
+    return {plural(r.non_manifold_edges, "non-manifold edge", "non-manifold edges") + " (first: " +
+                edge(r.first_non_manifold_edge) + ", on more than two faces)",
+            "keep at most two faces on each edge: remove the extra faces, or give them vertices of their own (a "
+            "piece apart)"};
   if (r.non_manifold_vertices > 0)
-    return plural(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + " (first: vertex " +
-           std::to_string(r.first_non_manifold_vertex) + ", where separate fans of faces meet)";
-  if (!r.orientable) return "mesh is not orientable";
+    return {plural(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + " (first: vertex " +
+                std::to_string(r.first_non_manifold_vertex) + ", where separate fans of faces meet)",
+            "give each fan of faces its own copy of the vertex (pieces that only touch there become separate), or "
+            "remove the pieces that meet there"};
+  if (!r.orientable)
+    return {"mesh is not orientable",
+            "a one-sided surface (a Moebius strip) has no consistent orientation: cut it open where it twists"};
   if (!r.consistently_oriented)
-    return plural(r.inconsistent_edges, "edge is", "edges are") +
-           " traversed in the same direction by both faces: orientation is inconsistent (first: " +
-           edge(r.first_inconsistent_edge) + ")";
-  return "";
+    return {plural(r.inconsistent_edges, "edge is", "edges are") +
+                " traversed in the same direction by both faces: orientation is inconsistent (first: " +
+                edge(r.first_inconsistent_edge) + ")",
+            "turn the faces written the other way over, so that every edge is run both ways"};
+  return {};
 }
 
-std::string how_to_repair(const MeshReport& r) {
-  // The cases of first_problem_for_triangle_codec(), in its order.
-  if (!r.structure_error.empty()) return "";
-  if (r.faces == 0)
-    return r.vertices == 0 ? "" : "a point cloud, or a file whose faces were not written: meshlift codes surfaces; "
-                                  "reconstruct one from the points first (a surface reconstruction, e.g. screened Poisson)";
-  if (r.invalid_index_faces > 0) return "the file is damaged or its faces count their vertices otherwise: write it again";
-  if (r.non_triangle_faces > 0) return "split the faces into triangles first (the CLI and to_triangle_mesh() do)";
-  if (r.degenerate_faces > 0) return "remove the faces that name a vertex twice (they have no area)";
-  if (r.non_finite_vertices > 0) return "remove those vertices and their faces, or give them coordinates";
-  if (r.non_manifold_edges > 0)
-    return "keep at most two faces on each edge: remove the extra faces, or give them vertices of their own (a piece apart)";
-  if (r.non_manifold_vertices > 0)
-    return "give each fan of faces its own copy of the vertex (pieces that only touch there become separate), or "
-           "remove the pieces that meet there";
-  if (!r.orientable) return "a one-sided surface (a Moebius strip) has no consistent orientation: cut it open where it twists";
-  if (!r.consistently_oriented) return "turn the faces written the other way over, so that every edge is run both ways";
-  return "";
-}
+}  // namespace
+
+std::string first_problem_for_triangle_codec(const MeshReport& r) { return first_problem(r).what; }
+
+std::string how_to_repair(const MeshReport& r) { return first_problem(r).repair; }
 
 void add_self_intersections(const PolygonMesh& mesh, MeshReport& report) {
   if (!first_problem_for_triangle_codec(report).empty()) return;
