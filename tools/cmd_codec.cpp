@@ -52,10 +52,10 @@ struct PsnrCut {
 /// moves vertices along the surface more than it moves the surface, does not (camel, 65 dB
 /// asked: 2,326 bytes against the 3,993 that a vertex PSNR of 65 dB against the remesh took,
 /// docs/RESULTS.md). By bisection over prefix lengths (the error against the input falls with
-/// the bytes read: tests/codec, "prefixes") on 100,000 area samples a side, the cut then measured
-/// on the metric's own count, and the bisection taken on with those above it where that falls
-/// short. The whole file if no prefix reaches the target (its PSNR is then the closest the
-/// stream comes).
+/// the bytes read: tests/codec, "prefixes") on 100,000 area samples a side; the cut is then
+/// measured on the metric's own count, and where that falls short (by the sparser samples'
+/// spread, ~0.04 dB) the search goes on above it with those. The whole file if no prefix reaches
+/// the target (its PSNR is then the closest the stream comes).
 PsnrCut cut_for_psnr(const std::vector<std::uint8_t>& file, const TriangleMesh& input, std::size_t decoded_faces,
                      double target_db) {
   MetricOptions metric, search;
@@ -76,26 +76,33 @@ PsnrCut cut_for_psnr(const std::vector<std::uint8_t>& file, const TriangleMesh& 
     return (searching && sparse ? surface_distance(*sparse, r.mesh, search) : surface_distance(reference, r.mesh, metric))
         .psnr_db();
   };
-  const PsnrCut whole{file.size(), psnr_at(file.size(), false), false};
-  if (!(whole.psnr_db >= target_db)) return whole;
-  // Bisection of [lo, hi): the cut at `hi` reaches the target by that metric, the one at `lo`
-  // does not (or is 0).
-  auto bisect = [&](std::size_t lo, std::size_t hi, bool searching) {
-    while (hi - lo > std::max<std::size_t>(1, hi / 256)) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      (psnr_at(mid, searching) >= target_db ? hi : lo) = mid;
+  const PsnrCut whole{file.size(), psnr_at(file.size(), false), true};
+  if (!(whole.psnr_db >= target_db)) return {whole.bytes, whole.psnr_db, false};
+  // Bisection of (lo, hi.bytes]: the cut at hi.bytes reaches the target by that metric, the one
+  // at lo does not (or is 0).
+  auto bisect = [&](std::size_t lo, PsnrCut hi, bool searching) {
+    while (hi.bytes - lo > std::max<std::size_t>(1, hi.bytes / 256)) {
+      const std::size_t mid = lo + (hi.bytes - lo) / 2;
+      if (const double psnr = psnr_at(mid, searching); psnr >= target_db)
+        hi = {mid, psnr, true};
+      else
+        lo = mid;
     }
     return hi;
   };
-  std::size_t cut = bisect(0, file.size(), true);
-  double psnr = cut == file.size() ? whole.psnr_db : psnr_at(cut, false);
-  if (!(psnr >= target_db)) {
-    // Short by the sparser samples' spread (near the remesh's own error the curve is flat): the
-    // rest of the way on the metric's own samples.
-    cut = bisect(cut, file.size(), false);
-    psnr = cut == file.size() ? whole.psnr_db : psnr_at(cut, false);
+  const PsnrCut found = bisect(0, whole, true);
+  if (!sparse || found.bytes == whole.bytes) return found;  // measured on the metric's own samples
+  const double psnr = psnr_at(found.bytes, false);
+  if (psnr >= target_db) return {found.bytes, psnr, true};
+  // Short by the sparser samples' spread: the first cut above that reaches it on the metric's own
+  // samples, by steps doubling from the resolution, then bisection.
+  std::size_t lo = found.bytes;
+  for (std::size_t step = std::max<std::size_t>(1, found.bytes / 256);; step *= 2) {
+    const std::size_t at = std::min(whole.bytes, lo + step);
+    const double at_psnr = at == whole.bytes ? whole.psnr_db : psnr_at(at, false);
+    if (at_psnr >= target_db) return bisect(lo, {at, at_psnr, true}, false);
+    lo = at;
   }
-  return {cut, psnr, true};
 }
 
 /// `--scheme auto`: the wavelet whose details of `mesh` (all levels, x, y, z) have the least
