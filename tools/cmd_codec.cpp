@@ -291,15 +291,49 @@ int run_decode(const DecodeArgs& a) {
 }
 
 struct TruncateArgs {
-  std::string input, output;
+  std::string input, output, reference;
   std::size_t bytes = 0;
+  double psnr = 0;
 };
 
 int run_truncate(const TruncateArgs& a) {
-  if (!check_distinct_output(a.input, a.output)) return kOutputError;
+  if (a.bytes == 0 && !(a.psnr > 0)) {
+    std::cerr << "meshlift truncate: give --bytes N, or --psnr DB with --reference MESH\n";
+    return kUsage;
+  }
+  if (!check_distinct_output(a.input, a.output) || (!a.reference.empty() && !check_distinct_output(a.reference, a.output)))
+    return kOutputError;
   std::vector<std::uint8_t> file, cut;
   if (!load_stream(a.input, file)) return kBadInput;
-  const Status status = truncate_file(file, a.bytes, cut);
+  std::size_t bytes = a.bytes;
+  if (a.psnr > 0) {
+    // The shortest prefix within the target of the mesh the file was made from, as encode --psnr
+    // cuts (the whole file, with a note, if none is).
+    const StreamInfo info = inspect(file);
+    if (info.status != Status::ok) {
+      std::cerr << "meshlift: " << a.input << ": " << to_string(info.status) << " (error " << static_cast<int>(info.status)
+                << "): " << info.message << "\n";
+      return kBadInput;
+    }
+    std::optional<PolygonMesh> loaded = load_mesh(a.reference);
+    if (!loaded) return kBadInput;
+    const TriangleMesh reference = triangles_of(a.reference, std::move(*loaded));
+    PsnrCut found;
+    try {
+      found = cut_for_psnr(file, reference, info.faces, a.psnr);
+    } catch (const MeshError& e) {  // a reference the metric cannot take (no faces, bad coordinates)
+      std::cerr << "meshlift: " << a.reference << ": " << e.what() << "\n";
+      return kBadInput;
+    }
+    if (found.reached)
+      std::fprintf(stderr, "%s: --psnr %g: the first %zu bytes decode %.2f dB from %s (METRIC.md)\n", a.input.c_str(),
+                   a.psnr, found.bytes, found.psnr_db, a.reference.c_str());
+    else
+      std::fprintf(stderr, "%s: note: --psnr %g is out of reach: the whole file decodes to %.2f dB from %s, kept whole\n",
+                   a.input.c_str(), a.psnr, found.psnr_db, a.reference.c_str());
+    bytes = found.bytes;
+  }
+  const Status status = truncate_file(file, bytes, cut);
   // A cut inside the file header (truncate_file: truncated), or inside the header or base mesh
   // chunks, which it would re-frame as complete but short chunks that read as corrupt, is refused
   // (the streaming decoder shows nothing before them either) where the file itself is sound;
@@ -307,7 +341,7 @@ int run_truncate(const TruncateArgs& a) {
   if (status != Status::ok || decode(cut).status != Status::ok) {
     const Status whole = decode(file).status;
     if (whole == Status::ok) {
-      std::cerr << "meshlift: " << a.input << ": a cut at " << a.bytes
+      std::cerr << "meshlift: " << a.input << ": a cut at " << bytes
                 << " bytes falls inside the header or the base mesh, before anything decodes; `meshlift info "
                 << a.input << "` lists the chunk sizes\n";
     } else {
@@ -483,9 +517,16 @@ void register_truncate(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<TruncateArgs>();
   auto* cmd = app.add_subcommand("truncate", "Cut a .mlz stream to a valid, smaller file (no re-encoding)");
   cmd->add_option("input", a->input, "input .mlz file")->required();
-  cmd->add_option("--bytes", a->bytes, "prefix length to keep (the file may end up to 4 bytes longer: the last chunk's checksum)")
-      ->required()
-      ->check(CLI::PositiveNumber);
+  auto* bytes =
+      cmd->add_option("--bytes", a->bytes, "prefix length to keep (the file may end up to 4 bytes longer: the last chunk's checksum)")
+          ->check(CLI::PositiveNumber);
+  auto* psnr = cmd->add_option("--psnr", a->psnr,
+                               "instead: keep the shortest prefix (within 1/256 of its length) whose decode is within this PSNR "
+                               "in dB of the --reference mesh, as `compare` measures it (docs/METRIC.md), as `encode --psnr` cuts")
+                   ->check(CLI::PositiveNumber)
+                   ->excludes(bytes);
+  auto* reference = cmd->add_option("--reference", a->reference, "with --psnr: the mesh the file was encoded from")->needs(psnr);
+  psnr->needs(reference);
   cmd->add_option("-o,--output", a->output, "output .mlz file")->required();
   cmd->callback([a, &exit_code] { exit_code = run_truncate(*a); });
 }

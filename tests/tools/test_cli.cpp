@@ -267,6 +267,14 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   while (n < fs::file_size(target) && read_file(cut_at(n)) != read_file(target)) ++n;
   REQUIRE(read_file(cut_at(n)) == read_file(target));
   CHECK(compared_psnr(cut_at(n - 1)) < 60.0);
+  // truncate --psnr cuts the whole file where encode --psnr does: the same bytes.
+  const std::string cut60 = (dir / "t60.mlz").string();
+  const auto t60 = run("truncate " + mlz + " -o " + cut60 + " --psnr 60 --reference " + fine);
+  REQUIRE(t60.exit_code == 0);
+  CHECK_THAT(t60.output, Catch::Contains("--psnr 60: the first " + std::to_string(n) + " bytes decode "));
+  CHECK(read_file(cut60) == read_file(target));
+  CHECK(run("truncate " + mlz + " -o " + cut60 + " --psnr 60").exit_code == 2);  // no reference
+  CHECK(run("truncate " + mlz + " -o " + cut60).exit_code == 2);                // neither --bytes nor --psnr
   const std::string beyond = (dir / "p300.mlz").string();
   const auto p300 = run("encode " + fine + " -o " + beyond + " --scheme butterfly --psnr 300");
   REQUIRE(p300.exit_code == 0);
