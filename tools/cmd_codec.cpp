@@ -378,22 +378,39 @@ int run_stream(const StreamArgs& a) {
       return kOutputError;
     }
   }
+  // The reference: the encoded semi-regular mesh itself (its vertices against the decoded ones:
+  // the codec's own error), or any other mesh, such as the one the file was encoded from (the
+  // surface metric of METRIC.md, as `compare` and `encode --psnr` measure: the remesh's error too).
   std::vector<double> reference;
+  std::optional<SampledSurface> reference_surface;
+  MetricOptions metric;
+  metric.vertices = false;  // the PSNR alone
+  const StreamInfo info = inspect(file);
   if (!a.reference.empty()) {
-    const std::optional<PolygonMesh> loaded = load_mesh(a.reference);
+    std::optional<PolygonMesh> loaded = load_mesh(a.reference);
     if (!loaded) return kBadInput;
     // The stream holds its vertices in canonical order: put the reference in that order too.
     std::optional<SemiRegularMesh> recovered;
     if (loaded->is_triangle_mesh()) recovered = recover_level_ordered(to_triangle_mesh(*loaded));
-    if (!recovered) {
-      std::cerr << "meshlift: " << a.reference << ": no subdivision connectivity in level order: not the encoded mesh\n";
-      return kBadInput;
+    if (recovered && recovered->hierarchy.vertex_count(recovered->hierarchy.levels()) == info.vertices) {
+      reference = canonical_order(*recovered).positions;
+      std::fprintf(stderr, "%s: the encoded mesh: PSNR of the decoded vertices against its own\n", a.reference.c_str());
+    } else {
+      try {
+        const TriangleMesh mesh = triangles_of(a.reference, std::move(*loaded));
+        metric.samples = default_sample_count(mesh.face_count(), info.faces);
+        reference_surface.emplace(mesh, metric.samples, metric.seed, metric.threads, metric.vertices);
+      } catch (const MeshError& e) {  // no faces, bad coordinates
+        std::cerr << "meshlift: " << a.reference << ": " << e.what() << "\n";
+        return kBadInput;
+      }
+      std::fprintf(stderr, "%s: not the encoded mesh: PSNR of the decoded surface against it (METRIC.md, as `compare`)\n",
+                   a.reference.c_str());
     }
-    reference = canonical_order(*recovered).positions;
   }
   // The CSV is collected and written once at the end, atomically like every other output.
   std::string csv = "bytes,bits_per_vertex,vertices,bit_plane,psnr_db\n";
-  const std::uint64_t base_vertices = inspect(file).base_vertices;  // once, for the base part notes
+  const std::uint64_t base_vertices = info.base_vertices;  // for the base part notes
   Decoder decoder;
   DecodeResult r;  // kept: each mesh reuses the arrays of the one before (Decoder::mesh(DecodeResult&))
   std::size_t written = 0;
@@ -420,11 +437,12 @@ int run_stream(const StreamArgs& a) {
       ++written;
     }
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
-    const double psnr = reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
-                                                                     : std::numeric_limits<double>::quiet_NaN();
+    const double psnr = reference_surface                                ? surface_distance(*reference_surface, r.mesh, metric).psnr_db()
+                        : reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
+                                                                      : std::numeric_limits<double>::quiet_NaN();
     std::fprintf(stderr, "%8zu bytes (%.3f bpv): %s (%zu vertices, bit plane %d%s%s)", at, bpv, name,
                  r.mesh.vertex_count(), r.bit_plane, base_part_note(r, base_vertices).c_str(), r.complete ? ", complete" : "");
-    if (!reference.empty()) std::fprintf(stderr, ", PSNR %.2f dB", psnr);
+    if (!a.reference.empty()) std::fprintf(stderr, ", PSNR %.2f dB", psnr);
     std::fprintf(stderr, "\n");
     char row[128];
     std::snprintf(row, sizeof row, "%zu,%.4f,%zu,%d,%.3f\n", at, bpv, r.mesh.vertex_count(), r.bit_plane, psnr);
@@ -538,7 +556,9 @@ void register_stream(CLI::App& app, int& exit_code) {
   cmd->add_option("--every", a->every, "bytes between snapshots")->required()->check(CLI::PositiveNumber);
   cmd->add_option("-o,--output", a->directory, "directory for the meshes (none written without it)");
   cmd->add_option("--reference", a->reference,
-                  "the encoded semi-regular mesh: print the PSNR of each snapshot against it");
+                  "print the PSNR of each snapshot against this mesh: the encoded semi-regular mesh (its vertices "
+                  "against the decoded ones), or any other, such as the one the file was encoded from (the surface "
+                  "metric of docs/METRIC.md, as `compare` measures)");
   cmd->add_option("--csv", a->csv, "write bytes, bits per vertex, bit plane and PSNR per snapshot to this file");
   cmd->callback([a, &exit_code] { exit_code = run_stream(*a); });
 }
