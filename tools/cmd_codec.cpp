@@ -309,12 +309,12 @@ int run_truncate(const TruncateArgs& a) {
   if (a.psnr > 0) {
     // The shortest prefix within the target of the mesh the file was made from, as encode --psnr
     // cuts (the whole file, with a note, if none is).
-    const StreamInfo info = inspect(file);
-    if (info.status != Status::ok) {
-      std::cerr << "meshlift: " << a.input << ": " << to_string(info.status) << " (error " << static_cast<int>(info.status)
-                << "): " << info.message << "\n";
+    // A file that does not decode whole is refused as it is, before its prefixes are measured.
+    if (const DecodeResult whole = decode(file); whole.status != Status::ok) {
+      print_failure(a.input, whole);
       return kBadInput;
     }
+    const StreamInfo info = inspect(file);
     std::optional<PolygonMesh> loaded = load_mesh(a.reference);
     if (!loaded) return kBadInput;
     const TriangleMesh reference = triangles_of(a.reference, std::move(*loaded));

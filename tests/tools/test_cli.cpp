@@ -275,6 +275,16 @@ TEST_CASE("encode - decode - truncate and stream a subdivided mesh - damaged fil
   CHECK(read_file(cut60) == read_file(target));
   CHECK(run("truncate " + mlz + " -o " + cut60 + " --psnr 60").exit_code == 2);  // no reference
   CHECK(run("truncate " + mlz + " -o " + cut60).exit_code == 2);                // neither --bytes nor --psnr
+  {  // A damaged file is refused with its status before any prefix is measured.
+    std::string damaged = read_file(mlz);
+    damaged[damaged.size() - 6] = static_cast<char>(damaged[damaged.size() - 6] ^ 0x10);
+    const fs::path damaged_path = write_file(dir / "damaged.mlz", damaged);
+    const auto refused_cut = run("truncate " + damaged_path.string() + " -o " + (dir / "t_damaged.mlz").string() +
+                                 " --psnr 60 --reference " + fine);
+    CHECK(refused_cut.exit_code == 3);
+    CHECK_THAT(refused_cut.output, Catch::Contains("checksum_mismatch (error 5)"));
+    CHECK_FALSE(fs::exists(dir / "t_damaged.mlz"));
+  }
   const std::string beyond = (dir / "p300.mlz").string();
   const auto p300 = run("encode " + fine + " -o " + beyond + " --scheme butterfly --psnr 300");
   REQUIRE(p300.exit_code == 0);
