@@ -478,6 +478,14 @@ TEST_CASE("encode codes a remesh to 15 bits where its own error is far above tha
     return std::stod(compared.output.substr(compared.output.find("PSNR: ") + 6));
   };
   CHECK(compared_psnr((dir / "p.mlz").string()) >= 70.0);
+  // A target beyond the automatic remesh: a denser one is made and kept, and reaches it.
+  const double beyond_remesh = std::stod(psnr) + 1;
+  const std::string closer = (dir / "closer.mlz").string();
+  const auto denser = run("encode " + input.string() + " -o " + closer + " --psnr " + std::to_string(beyond_remesh));
+  REQUIRE(denser.exit_code == 0);
+  CHECK_THAT(denser.output, Catch::Contains("short of the target: remeshing at ~"));
+  CHECK_THAT(denser.output, Catch::Contains("): kept"));
+  CHECK(compared_psnr(closer) >= beyond_remesh);
   const std::string csv = (dir / "a.csv").string();
   const auto streamed = run("stream " + (dir / "a.mlz").string() + " --every 3000 --reference " + input.string() + " --csv " + csv);
   REQUIRE(streamed.exit_code == 0);
