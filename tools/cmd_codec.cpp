@@ -50,7 +50,7 @@ struct PsnrCut {
 /// the decoded file). The target is the error against what the user gave, not against the
 /// semi-regular mesh coded: the remesh's own error counts, and the tangential quantization, which
 /// moves vertices along the surface more than it moves the surface, does not (camel, 65 dB
-/// asked: 2,326 bytes against the 3,993 that a vertex PSNR of 65 dB against the remesh took,
+/// asked: 2,284 bytes against the 3,993 that a vertex PSNR of 65 dB against the remesh took,
 /// docs/RESULTS.md). By bisection over prefix lengths (the error against the input falls with
 /// the bytes read: tests/codec, "prefixes") on 100,000 area samples a side; the cut is then
 /// measured on the metric's own count, and where that falls short (by the sparser samples'
