@@ -273,7 +273,11 @@ int run_encode(const EncodeArgs& a) {
                    other->cut->reached ? "cut at" : "whole stream", other->file.size(), other->cut->psnr_db,
                    better ? "kept" : "not kept");
       if (!better) {
-        if (encoded->cut->reached || candidate_folds > folds) break;  // denser would cost more still
+        // Denser would cost more still; or the decimation stopped at the same base (a small
+        // input at its topology's floor), and denser densities make the same remesh.
+        if (encoded->cut->reached || candidate_folds > folds ||
+            candidate->mesh.positions.size() == remeshed->mesh.positions.size())
+          break;
         continue;
       }
       remeshed = std::move(candidate);
