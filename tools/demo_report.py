@@ -10,6 +10,7 @@ Reads (all written by scripts/demo.sh):
   OUT/info/<name>.json          `meshlift info --json` of the development corpus
   OUT/codec/<mesh>.mlz, .log    the butterfly encodes and their stderr
   OUT/codec/armadillo_stream.csv  `meshlift stream --csv` of armadillo.mlz
+  OUT/codec/camel_70dB.mlz, .log  `meshlift encode camel.off --psnr 70` (optional)
   OUT/decode/<mesh>.log         stderr of `meshlift decode --stats` (1 bpv prefix, whole file)
   OUT/decode/<mesh>.1bpv_bytes, truncate_check.txt
   OUT/rd/rd.csv, bd_rate.csv, bd_rate.md, seconds.txt   `meshlift rd` and tools/plot_rd.py
@@ -325,6 +326,13 @@ def main(argv):
               (bytes_1bpv, "{:,}".format(os.path.getsize(os.path.join(out, "codec", "armadillo_1bpv.mlz"))),
                "byte-identical" if check == "identical" else "NOT identical", bytes_1bpv))
     md.append("")
+    target = os.path.join(out, "codec", "camel_70dB.mlz")
+    if os.path.exists(target):
+        md += ["A quality target against the original: `meshlift encode camel.off -o codec/camel_70dB.mlz --psnr 70` "
+               "remeshed camel.off itself and cut the stream where its decode is 70 dB from it (%s bytes, decoded to "
+               "`decode/camel_70dB.ply`):" % "{:,}".format(os.path.getsize(target)), "", "```"]
+        md += [line for line in log_lines("codec", "camel_70dB.log") if "--psnr" in line or "bits/vertex" in line]
+        md += ["```", ""]
 
     md += ["## Streaming", "", "![armadillo streamed](stream_strip.png)", "",
            "The remeshed armadillo's butterfly stream fed to the streaming decoder (`meshlift stream`); PSNR here "
