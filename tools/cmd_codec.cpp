@@ -580,13 +580,13 @@ void register_encode(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_frame_options(*cmd, a->frames);
   auto* bpv = cmd->add_option("--bpv", a->bpv, "cut the stream at this many bits per input vertex")
-                  ->check(CLI::PositiveNumber);
+                  ->check(CLI::PositiveNumber & kFinite);
   auto* bytes = cmd->add_option("--bytes", a->bytes, "cut the stream at this many bytes")->check(CLI::PositiveNumber)->excludes(bpv);
   cmd->add_option("--psnr", a->psnr,
                   "cut the stream at the shortest prefix (within 1/256 of its length) whose decode is within this "
                   "PSNR in dB of the input mesh: symmetric surface RMS, bounding-box diagonal as peak, as `compare` "
                   "measures it (docs/METRIC.md); the whole stream, with a note, if it never gets that close")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & kFinite)
       ->excludes(bpv)
       ->excludes(bytes);
   cmd->callback([a, &exit_code] { exit_code = run_encode(*a); });
@@ -618,7 +618,7 @@ void register_truncate(CLI::App& app, int& exit_code) {
   auto* psnr = cmd->add_option("--psnr", a->psnr,
                                "instead: keep the shortest prefix (within 1/256 of its length) whose decode is within this PSNR "
                                "in dB of the --reference mesh, as `compare` measures it (docs/METRIC.md), as `encode --psnr` cuts")
-                   ->check(CLI::PositiveNumber)
+                   ->check(CLI::PositiveNumber & kFinite)
                    ->excludes(bytes);
   auto* reference = cmd->add_option("--reference", a->reference, "with --psnr: the mesh the file was encoded from")->needs(psnr);
   psnr->needs(reference);

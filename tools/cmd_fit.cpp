@@ -124,7 +124,7 @@ void register_fit(CLI::App& app, int& exit_code) {
   fit->add_option("--tolerance", options->fit.tolerance,
                   "Stop when the max distance of a limit point from its input vertex is at most this x the "
                   "bounding-box diagonal")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(CLI::Range(0.0, 1.0) & kFinite)
       ->capture_default_str();
   fit->add_flag("--binary", options->binary, "Write binary PLY/STL");
   fit->callback([options, &exit_code] { exit_code = run_fit(*options); });

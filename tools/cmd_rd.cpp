@@ -470,7 +470,7 @@ void register_rd(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--bpv", options->bpv, "Budgets in bits per original input vertex, comma-separated")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & kFinite)
       ->capture_default_str();
   add_remesh_options(*cmd, options->remesh, "--remesh");
   cmd->add_option("--bits", options->bits,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <string>
 
 namespace meshlift::cli {
@@ -15,6 +16,15 @@ enum Exit : int {
   kOutputError = 4,  ///< the output could not be written, or would overwrite an input
   kInternal = 70,    ///< a bug: please report
 };
+
+/// CLI11's Range and PositiveNumber let "nan" through (every comparison with NaN is false): chained
+/// after them on an option that takes a real number, this refuses NaN and the infinities.
+inline const CLI::Validator kFinite(
+    [](std::string& text) {
+      double value = 0;
+      return CLI::detail::lexical_cast(text, value) && std::isfinite(value) ? std::string() : "not a finite number: " + text;
+    },
+    "FINITE");
 
 /// Each register_* adds a subcommand whose callback sets `exit_code`.
 void register_info(CLI::App& app, int& exit_code);

@@ -40,7 +40,7 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
                  "within 75 dB PSNR of the input (fewer bits at 55-75 dB; 1, else 1.5, where 2 is far within and "
                  "they are within 75 dB too), else 3 or 4 (closer), then 6 and 8 while the closest is still short "
                  "of 75 dB (small inputs)")
-      ->check(CLI::IsMember({"auto"}) | CLI::Range(1.0, 1024.0))
+      ->check(CLI::IsMember({"auto"}) | (CLI::Range(1.0, 1024.0) & kFinite))
       ->capture_default_str();
   cmd.add_option("--fit", options.fit, "base fitting: loop (Loop limit surface through the base vertices) or none")
       ->check(CLI::IsMember({"loop", "none"}))
@@ -57,7 +57,7 @@ void add_remesh_options(CLI::App& cmd, RemeshCliOptions& options, const std::str
                  "feature lines (creases of CAD parts): edges whose faces turn by more than this many degrees, "
                  "in smooth lines of 5 edges or more between smooth sides, are kept by the base and followed by the "
                  "remesh (with --density auto: where their 2x remesh qualifies); 0: none")
-      ->check(CLI::Range(0.0, 180.0))
+      ->check(CLI::Range(0.0, 180.0) & kFinite)
       ->capture_default_str();
   cmd.add_flag("--weld", options.weld,
                "join the input's vertices that sit at exactly the same position first (files whose pieces or UV "

@@ -296,7 +296,8 @@ TEST_CASE("CLI: every command refuses to write over its input", "[cli][hostile]"
        {"subdivide " + sub + " -o " + sub + " --scheme loop --levels 1", "limit " + sub + " -o " + sub + " --scheme loop",
         "fit " + sub + " -o " + sub + " --scheme loop", "encode " + sub + " -o " + sub,
         "decode " + mlz + " -o " + mlz, "truncate " + mlz + " --bytes 50 -o " + mlz,
-        "truncate " + mlz + " --bytes 50 -o " + s.path("link.mlz"), "stream " + mlz + " --every 40 --csv " + mlz,
+        "truncate " + mlz + " --bytes 50 -o " + s.path("link.mlz"),
+        "truncate " + mlz + " --psnr 60 --reference " + sub + " -o " + sub, "stream " + mlz + " --every 40 --csv " + mlz,
         "stream " + mlz + " --every 40 --reference " + sub + " --csv " + sub}) {
     const Run r = run_cli(command);
     INFO(command << "\n" << r.output);
@@ -306,6 +307,28 @@ TEST_CASE("CLI: every command refuses to write over its input", "[cli][hostile]"
   CHECK(read_text(sub) == sub_before);
   CHECK(read_text(mlz) == mlz_before);
   CHECK(s.temporaries().empty());
+}
+
+TEST_CASE("CLI: a real-number option given nan or inf is a bad argument, not ignored", "[cli][hostile]") {
+  // CLI11's Range and PositiveNumber let "nan" through; `encode --psnr nan` used to write the
+  // whole stream as if no target had been given.
+  Scratch s("non_finite");
+  const std::string tet = s.file("tet.off", kTetrahedron);
+  REQUIRE(run_cli("encode " + tet + " -o " + s.path("t.mlz")).exit_code == 0);
+  for (const std::string& command :
+       {"encode " + tet + " -o " + s.path("a.mlz") + " --psnr nan", "encode " + tet + " -o " + s.path("a.mlz") + " --bpv nan",
+        "encode " + tet + " -o " + s.path("a.mlz") + " --psnr inf",
+        "truncate " + s.path("t.mlz") + " -o " + s.path("a.mlz") + " --psnr nan --reference " + tet,
+        "remesh " + tet + " -o " + s.path("a.ply") + " --density nan",
+        "remesh " + tet + " -o " + s.path("a.ply") + " --feature-angle nan",
+        "fit " + tet + " -o " + s.path("a.off") + " --tolerance nan", "rd " + tet + " -o " + s.path("rd") + " --bpv 1,nan"}) {
+    const Run r = run_cli(command);
+    INFO(command << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+  }
+  CHECK_FALSE(fs::exists(s.path("a.mlz")));
+  CHECK_FALSE(fs::exists(s.path("a.ply")));
+  CHECK_FALSE(fs::exists(s.path("a.off")));
 }
 
 TEST_CASE("CLI: a run interrupted by a signal leaves the complete output or none", "[cli][hostile]") {
