@@ -210,9 +210,9 @@ std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh
   return out;
 }
 
-/// `encode --psnr` with the automatic density: where the remesh it chose is closer to the target
-/// than this (or farther from the input than the target), the next denser densities are remeshed
-/// and coded too, and the smallest file that reaches the target is kept. Measured on the
+/// `encode --psnr` with the automatic density: where the remesh it chose is less than this many dB
+/// closer to the input than the target asks (or farther than the target), the next denser
+/// densities are remeshed and coded too, and the smallest file that reaches the target is kept. Measured on the
 /// development meshes (docs/RESULTS.md, "encode --psnr against the input"): fandisk at 75 dB, 0.3
 /// dB under its 1x remesh's 75.31, takes 16 % fewer bytes at 1.5x; where the target is 5 dB or
 /// more under the remesh's error the automatic density's file is the smallest (fandisk at 70 dB,
