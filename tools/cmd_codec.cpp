@@ -37,6 +37,41 @@ double vertex_psnr(const std::vector<double>& reference, const std::vector<doubl
   return rms > 0 ? 20 * std::log10(bounding_box_diagonal(reference) / rms) : std::numeric_limits<double>::infinity();
 }
 
+/// A mesh the decoded ones are measured against by the metric every figure of meshlift uses
+/// (METRIC.md: symmetric surface RMS, the reference's bounding-box diagonal as peak), PSNR only,
+/// with the sample count `meshlift compare` takes for meshes of `test_faces` faces, so that it
+/// prints the same PSNR; `searching` adds the same on 100,000 area samples a side (±0.012 dB over
+/// seeds, metric.h), the quick measure of a search. One per reference and face count: encode's
+/// cut, truncate's, and stream's snapshots.
+class ReferenceSurface {
+ public:
+  /// \throw MeshError if the metric cannot take `reference` (no faces, non-finite coordinates).
+  ReferenceSurface(const TriangleMesh& reference, std::size_t test_faces, bool searching = false)
+      : metric_(psnr_options(default_sample_count(reference.face_count(), test_faces))),
+        search_(psnr_options(std::min<std::size_t>(metric_.samples, 100'000))),
+        full_(reference, metric_.samples, metric_.seed, metric_.threads, metric_.vertices) {
+    if (searching && search_.samples < metric_.samples)
+      sparse_.emplace(reference, search_.samples, search_.seed, search_.threads, search_.vertices);
+  }
+  double psnr(const TriangleMesh& test) const { return surface_distance(full_, test, metric_).psnr_db(); }
+  /// On the sparser samples where there are some, else psnr().
+  double quick_psnr(const TriangleMesh& test) const {
+    return sparse_ ? surface_distance(*sparse_, test, search_).psnr_db() : psnr(test);
+  }
+  bool has_quick() const { return sparse_.has_value(); }
+
+ private:
+  static MetricOptions psnr_options(std::size_t samples) {
+    MetricOptions o;
+    o.samples = samples;
+    o.vertices = false;  // the vertices enter only the Hausdorff distance
+    return o;
+  }
+  MetricOptions metric_, search_;
+  SampledSurface full_;
+  std::optional<SampledSurface> sparse_;
+};
+
 /// Where `encode --psnr` cut the stream, and how close that prefix's decode is to the input.
 struct PsnrCut {
   std::size_t bytes = 0;
@@ -44,46 +79,32 @@ struct PsnrCut {
   bool reached = false;
 };
 
-/// The shortest cut of `file`, to within 1/256 of its length, whose decode is within `target_db` of
-/// `input` by the metric every figure of meshlift uses (METRIC.md: symmetric surface RMS against
-/// the input, area samples as `meshlift compare` takes them, so that it prints the same PSNR of
-/// the decoded file). The target is the error against what the user gave, not against the
-/// semi-regular mesh coded: the remesh's own error counts, and the tangential quantization, which
-/// moves vertices along the surface more than it moves the surface, does not (camel, 65 dB
-/// asked: 2,284 bytes against the 3,993 that a vertex PSNR of 65 dB against the remesh took,
-/// docs/RESULTS.md). By bisection over prefix lengths (the error against the input falls with
-/// the bytes read: tests/codec, "prefixes") on 100,000 area samples a side; the cut is then
-/// measured on the metric's own count, and where that falls short (by the sparser samples'
-/// spread, ~0.04 dB) the search goes on above it with those. The whole file if no prefix reaches
-/// the target (its PSNR is then the closest the stream comes).
-PsnrCut cut_for_psnr(const std::vector<std::uint8_t>& file, const TriangleMesh& input, std::size_t decoded_faces,
-                     double target_db) {
-  MetricOptions metric, search;
-  metric.samples = default_sample_count(input.face_count(), decoded_faces);
-  metric.vertices = false;  // the PSNR alone: the vertices enter only the Hausdorff distance
-  search = metric;
-  search.samples = std::min<std::size_t>(metric.samples, 100'000);  // ±0.012 dB (metric.h)
-  const SampledSurface reference(input, metric.samples, metric.seed, metric.threads, metric.vertices);
-  const std::optional<SampledSurface> sparse =
-      search.samples < metric.samples
-          ? std::make_optional<SampledSurface>(input, search.samples, search.seed, search.threads, search.vertices)
-          : std::nullopt;
-  auto psnr_at = [&](std::size_t bytes, bool searching) {
+/// The shortest cut of `file`, to within 1/256 of its length, whose decode is within `target_db`
+/// of the input `reference` holds (made with `searching`). The target is the error against what
+/// the user gave, not against the semi-regular mesh coded: the remesh's own error counts, and the
+/// tangential quantization, which moves vertices along the surface more than it moves the
+/// surface, does not (camel, 65 dB asked: 2,284 bytes against the 3,993 that a vertex PSNR of
+/// 65 dB against the remesh took, docs/RESULTS.md). By bisection over prefix lengths (the error
+/// against the input falls with the bytes read: tests/codec, "prefixes") on the quick measure;
+/// the cut is then measured on the full one, and where that falls short (by the sparser samples'
+/// spread, ~0.04 dB) the search goes on above it with the full one. The whole file if no prefix
+/// reaches the target (its PSNR is then the closest the stream comes).
+PsnrCut cut_for_psnr(const std::vector<std::uint8_t>& file, const ReferenceSurface& reference, double target_db) {
+  auto psnr_at = [&](std::size_t bytes, bool quick) {
     DecodeOptions o;
     o.max_bytes = bytes;
     const DecodeResult r = decode(file, o);
     if (r.status != Status::ok) return -std::numeric_limits<double>::infinity();
-    return (searching && sparse ? surface_distance(*sparse, r.mesh, search) : surface_distance(reference, r.mesh, metric))
-        .psnr_db();
+    return quick ? reference.quick_psnr(r.mesh) : reference.psnr(r.mesh);
   };
   const PsnrCut whole{file.size(), psnr_at(file.size(), false), true};
   if (!(whole.psnr_db >= target_db)) return {whole.bytes, whole.psnr_db, false};
-  // Bisection of (lo, hi.bytes]: the cut at hi.bytes reaches the target by that metric, the one
-  // at lo does not (or is 0).
-  auto bisect = [&](std::size_t lo, PsnrCut hi, bool searching) {
+  // Bisection of (lo, hi.bytes]: the cut at hi.bytes reaches the target by that measure, the
+  // one at lo does not (or is 0).
+  auto bisect = [&](std::size_t lo, PsnrCut hi, bool quick) {
     while (hi.bytes - lo > std::max<std::size_t>(1, hi.bytes / 256)) {
       const std::size_t mid = lo + (hi.bytes - lo) / 2;
-      if (const double psnr = psnr_at(mid, searching); psnr >= target_db)
+      if (const double psnr = psnr_at(mid, quick); psnr >= target_db)
         hi = {mid, psnr, true};
       else
         lo = mid;
@@ -91,10 +112,10 @@ PsnrCut cut_for_psnr(const std::vector<std::uint8_t>& file, const TriangleMesh& 
     return hi;
   };
   const PsnrCut found = bisect(0, whole, true);
-  if (!sparse || found.bytes == whole.bytes) return found;  // measured on the metric's own samples
+  if (!reference.has_quick() || found.bytes == whole.bytes) return found;  // measured on the full samples
   const double psnr = psnr_at(found.bytes, false);
   if (psnr >= target_db) return {found.bytes, psnr, true};
-  // Short by the sparser samples' spread: the first cut above that reaches it on the metric's own
+  // Short by the sparser samples' spread: the first cut above that reaches it on the full
   // samples, by steps doubling from the resolution, then bisection.
   std::size_t lo = found.bytes;
   for (std::size_t step = std::max<std::size_t>(1, found.bytes / 256);; step *= 2) {
@@ -171,10 +192,11 @@ struct Encoded {
 };
 
 /// Encodes `mesh` as `a` asks: the input's colours read off its surface first, the scheme, the
-/// precision, the budget or the --psnr cut against `input`. Prints the error and returns nullopt
-/// on failure.
+/// precision, the budget or the --psnr cut against `reference` (the input prepared for meshes of
+/// `mesh`'s faces, searching; given with --psnr). Prints the error and returns nullopt on failure.
 std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh, double remesh_psnr,
-                                      const TriangleMesh& input, const std::optional<InputColours>& colours) {
+                                      const TriangleMesh& input, const std::optional<InputColours>& colours,
+                                      const ReferenceSurface* reference) {
   Encoded out;
   EncodeOptions& options = out.options;
   if (colours) {
@@ -200,8 +222,8 @@ std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh
     return std::nullopt;
   }
   out.whole_bytes = out.file.size();
-  if (a.psnr > 0) {
-    out.cut = cut_for_psnr(out.file, input, mesh.hierarchy.triangles(mesh.hierarchy.levels()).size() / 3, a.psnr);
+  if (reference != nullptr) {
+    out.cut = cut_for_psnr(out.file, *reference, a.psnr);
     std::vector<std::uint8_t> truncated;
     if (out.cut->bytes < out.file.size() && truncate_file(out.file, out.cut->bytes, truncated) == Status::ok)
       out.file = std::move(truncated);
@@ -240,7 +262,14 @@ int run_encode(const EncodeArgs& a) {
   double remesh_psnr = print_remesh_summary(
       a.input, input, *remeshed, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_remesh).count());
   const std::size_t vertices = input.vertex_count();
-  std::optional<Encoded> encoded = encode_for_cli(a, remeshed->mesh, remesh_psnr, input, colours);
+  // With --psnr, the input prepared for the metric of meshes of `remesh`'s faces.
+  auto reference_for = [&](const RemeshResult& remesh) {
+    const SemiRegularHierarchy& h = remesh.mesh.hierarchy;
+    return a.psnr > 0 ? std::make_optional<ReferenceSurface>(input, h.triangles(h.levels()).size() / 3, true) : std::nullopt;
+  };
+  std::optional<ReferenceSurface> reference = reference_for(*remeshed);
+  std::optional<Encoded> encoded =
+      encode_for_cli(a, remeshed->mesh, remesh_psnr, input, colours, reference ? &*reference : nullptr);
   if (!encoded) return kBadInput;
   const bool may_go_denser = a.psnr > 0 && a.remesh.density == "auto" && a.remesh.base_vertices == 0 &&
                              remeshed->method == RemeshMethod::decimate && !remeshed->recognized &&
@@ -259,11 +288,11 @@ int run_encode(const EncodeArgs& a) {
       denser.density = text;
       std::optional<RemeshResult> candidate = remesh_for_cli(a.input, input, denser);
       if (!candidate) break;
-      MetricOptions metric;
-      metric.vertices = false;
-      const double candidate_psnr = surface_distance(input, candidate->mesh.finest(), metric).psnr_db();
+      const std::optional<ReferenceSurface> candidate_reference = reference_for(*candidate);
+      const double candidate_psnr = candidate_reference->psnr(candidate->mesh.finest());
       const std::size_t candidate_folds = candidate->flipped_triangles + candidate->degenerate_triangles;
-      std::optional<Encoded> other = encode_for_cli(a, candidate->mesh, candidate_psnr, input, colours);
+      std::optional<Encoded> other =
+          encode_for_cli(a, candidate->mesh, candidate_psnr, input, colours, &*candidate_reference);
       if (!other) break;
       const bool better = candidate_folds <= folds &&
                           (other->cut->reached ? !encoded->cut->reached || other->file.size() < encoded->file.size()
@@ -391,17 +420,16 @@ int run_truncate(const TruncateArgs& a) {
       print_failure(a.input, whole);
       return kBadInput;
     }
-    const StreamInfo info = inspect(file);
     std::optional<PolygonMesh> loaded = load_mesh(a.reference);
     if (!loaded) return kBadInput;
-    const TriangleMesh reference = triangles_of(a.reference, std::move(*loaded));
-    PsnrCut found;
+    std::optional<ReferenceSurface> reference;
     try {
-      found = cut_for_psnr(file, reference, info.faces, a.psnr);
+      reference.emplace(triangles_of(a.reference, std::move(*loaded)), inspect(file).faces, true);
     } catch (const MeshError& e) {  // a reference the metric cannot take (no faces, bad coordinates)
       std::cerr << "meshlift: " << a.reference << ": " << e.what() << "\n";
       return kBadInput;
     }
+    const PsnrCut found = cut_for_psnr(file, *reference, a.psnr);
     if (found.reached)
       std::fprintf(stderr, "%s: --psnr %g: the first %zu bytes decode %.2f dB from %s (METRIC.md)\n", a.input.c_str(),
                    a.psnr, found.bytes, found.psnr_db, a.reference.c_str());
@@ -459,9 +487,7 @@ int run_stream(const StreamArgs& a) {
   // the codec's own error), or any other mesh, such as the one the file was encoded from (the
   // surface metric of METRIC.md, as `compare` and `encode --psnr` measure: the remesh's error too).
   std::vector<double> reference;
-  std::optional<SampledSurface> reference_surface;
-  MetricOptions metric;
-  metric.vertices = false;  // the PSNR alone
+  std::optional<ReferenceSurface> reference_surface;
   const StreamInfo info = inspect(file);
   if (!a.reference.empty()) {
     std::optional<PolygonMesh> loaded = load_mesh(a.reference);
@@ -474,9 +500,7 @@ int run_stream(const StreamArgs& a) {
       std::fprintf(stderr, "%s: the encoded mesh: PSNR of the decoded vertices against its own\n", a.reference.c_str());
     } else {
       try {
-        const TriangleMesh mesh = triangles_of(a.reference, std::move(*loaded));
-        metric.samples = default_sample_count(mesh.face_count(), info.faces);
-        reference_surface.emplace(mesh, metric.samples, metric.seed, metric.threads, metric.vertices);
+        reference_surface.emplace(triangles_of(a.reference, std::move(*loaded)), info.faces);
       } catch (const MeshError& e) {  // no faces, bad coordinates
         std::cerr << "meshlift: " << a.reference << ": " << e.what() << "\n";
         return kBadInput;
@@ -514,7 +538,7 @@ int run_stream(const StreamArgs& a) {
       ++written;
     }
     const double bpv = 8.0 * static_cast<double>(at) / static_cast<double>(r.mesh.vertex_count());
-    const double psnr = reference_surface                                ? surface_distance(*reference_surface, r.mesh, metric).psnr_db()
+    const double psnr = reference_surface                                ? reference_surface->psnr(r.mesh)
                         : reference.size() == r.mesh.positions.size() ? vertex_psnr(reference, r.mesh.positions)
                                                                       : std::numeric_limits<double>::quiet_NaN();
     std::fprintf(stderr, "%8zu bytes (%.3f bpv): %s (%zu vertices, bit plane %d%s%s)", at, bpv, name,
