@@ -732,7 +732,7 @@ TEST_CASE("a channel constant but for rounding encodes as a constant", "[codec][
   // encode refused the mesh ("precision_bits ... is too fine").
   SemiRegularMesh mesh = bumpy(test::icosahedron(), 3);
   const double grey = 192.0 / 255;
-  std::vector<double> values(3 * mesh.positions.size() / 3);
+  std::vector<double> values(mesh.positions.size());  // 3 components a vertex, as the positions
   for (std::size_t i = 0; i < values.size(); ++i) values[i] = i % 7 == 0 ? std::nextafter(grey, 1.0) : grey;
   mesh.channels = {{3, values, true}};
   const auto file = encode(mesh, {});
