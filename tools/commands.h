@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 namespace meshlift::cli {
@@ -21,8 +22,9 @@ enum Exit : int {
 /// after them on an option that takes a real number, this refuses NaN and the infinities.
 inline const CLI::Validator kFinite(
     [](std::string& text) {
-      double value = 0;
-      return CLI::detail::lexical_cast(text, value) && std::isfinite(value) ? std::string() : "not a finite number: " + text;
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      return end != text.c_str() && *end == '\0' && std::isfinite(value) ? std::string() : "not a finite number: " + text;
     },
     "FINITE");
 
