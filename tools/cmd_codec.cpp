@@ -195,8 +195,8 @@ struct Encoded {
 /// precision, the budget or the --psnr cut against `reference` (the input prepared for meshes of
 /// `mesh`'s faces, searching; given with --psnr). Prints the error and returns nullopt on failure.
 std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh, double remesh_psnr,
-                                      const TriangleMesh& input, const std::optional<InputColours>& colours,
-                                      const ReferenceSurface* reference) {
+                                      bool follows_features, const TriangleMesh& input,
+                                      const std::optional<InputColours>& colours, const ReferenceSurface* reference) {
   Encoded out;
   EncodeOptions& options = out.options;
   if (colours) {
@@ -216,6 +216,22 @@ std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh
   if (a.bpv > 0) options.max_bytes = static_cast<std::size_t>(std::ceil(a.bpv * static_cast<double>(input.vertex_count()) / 8));
   const auto t0 = std::chrono::steady_clock::now();
   try {
+    if (a.frames.tangent_shift < 0 && options.local_frames && follows_features) {
+      // A CAD part: finer tangents where they measure closer to the input (choose_tangent_shift),
+      // by the --psnr search's metric, or the same one made here.
+      std::optional<ReferenceSurface> own;
+      if (reference == nullptr) own.emplace(input, mesh.hierarchy.triangles(mesh.hierarchy.levels()).size() / 3);
+      const ReferenceSurface& measure = reference != nullptr ? *reference : *own;
+      const TangentChoice choice = choose_tangent_shift(mesh, options, input.vertex_count(),
+                                                        [&](const TriangleMesh& m) { return measure.psnr(m); });
+      options.tangent_shift = choice.shift;
+      std::fprintf(stderr,
+                   "%s: the remesh follows feature lines: tangent shift %d (prefixes at 1-8 bits per input vertex: "
+                   "%.2f dB from the input on average, against %.2f with shift %d)\n",
+                   a.input.c_str(), choice.shift, choice.shift == kCreaseTangentShift ? choice.crease_db : choice.default_db,
+                   choice.shift == kCreaseTangentShift ? choice.default_db : choice.crease_db,
+                   choice.shift == kCreaseTangentShift ? kDefaultTangentShift : kCreaseTangentShift);
+    }
     out.file = encode(mesh, options);
   } catch (const MeshError& e) {
     std::cerr << "meshlift: " << a.input << ": " << e.what() << "\n";
@@ -269,7 +285,8 @@ int run_encode(const EncodeArgs& a) {
   };
   std::optional<ReferenceSurface> reference = reference_for(*remeshed);
   std::optional<Encoded> encoded =
-      encode_for_cli(a, remeshed->mesh, remesh_psnr, input, colours, reference ? &*reference : nullptr);
+      encode_for_cli(a, remeshed->mesh, remesh_psnr, remeshed->feature_vertices > 0, input, colours,
+                     reference ? &*reference : nullptr);
   if (!encoded) return kBadInput;
   const bool may_go_denser = a.psnr > 0 && a.remesh.density == "auto" && a.remesh.base_vertices == 0 &&
                              remeshed->method == RemeshMethod::decimate && !remeshed->recognized &&
@@ -292,7 +309,8 @@ int run_encode(const EncodeArgs& a) {
       const double candidate_psnr = candidate_reference->psnr(candidate->mesh.finest());
       const std::size_t candidate_folds = candidate->flipped_triangles + candidate->degenerate_triangles;
       std::optional<Encoded> other =
-          encode_for_cli(a, candidate->mesh, candidate_psnr, input, colours, &*candidate_reference);
+          encode_for_cli(a, candidate->mesh, candidate_psnr, candidate->feature_vertices > 0, input, colours,
+                         &*candidate_reference);
       if (!other) break;
       const bool better = candidate_folds <= folds &&
                           (other->cut->reached ? !encoded->cut->reached || other->file.size() < encoded->file.size()
@@ -562,15 +580,48 @@ int run_stream(const StreamArgs& a) {
 
 }  // namespace
 
+TangentChoice choose_tangent_shift(const SemiRegularMesh& mesh, EncodeOptions options, std::size_t input_vertices,
+                                   const std::function<double(const TriangleMesh&)>& psnr) {
+  constexpr std::size_t kRates = std::size(kTangentChoiceBpv);
+  constexpr int kShifts[2] = {kDefaultTangentShift, kCreaseTangentShift};
+  double psnr_at[2][kRates];
+  options.max_bytes = std::numeric_limits<std::size_t>::max();  // the whole stream, cut below
+  for (int k = 0; k < 2; ++k) {
+    options.tangent_shift = kShifts[k];
+    const std::vector<std::uint8_t> file = encode(mesh, options);
+    for (std::size_t r = 0; r < kRates; ++r) {
+      DecodeOptions cut;
+      cut.max_bytes = static_cast<std::size_t>(std::ceil(kTangentChoiceBpv[r] * static_cast<double>(input_vertices) / 8));
+      const DecodeResult decoded = decode(file, cut);
+      psnr_at[k][r] = decoded.status == Status::ok ? psnr(decoded.mesh) : -std::numeric_limits<double>::infinity();
+    }
+  }
+  // Summed over the rates both decode at (a cut inside the header and base decodes at neither:
+  // the shift changes nothing there).
+  double sum[2] = {0, 0};
+  int rates = 0;
+  for (std::size_t r = 0; r < kRates; ++r)
+    if (std::isfinite(psnr_at[0][r]) && std::isfinite(psnr_at[1][r])) {
+      for (int k = 0; k < 2; ++k) sum[k] += psnr_at[k][r];
+      ++rates;
+    }
+  TangentChoice choice;
+  choice.shift = sum[1] > sum[0] ? kCreaseTangentShift : kDefaultTangentShift;  // a tie keeps the default
+  choice.default_db = rates > 0 ? sum[0] / rates : 0;
+  choice.crease_db = rates > 0 ? sum[1] / rates : 0;
+  return choice;
+}
+
 void add_frame_options(CLI::App& cmd, FrameArgs& args) {
   cmd.add_option("--frames", args.frames,
                  "coordinates of the geometry details: local (normal and two tangents of the coarser level) or xyz")
       ->check(CLI::IsMember({"local", "xyz"}))
       ->capture_default_str();
   cmd.add_option("--tangent-shift", args.tangent_shift,
-                 "local frames: quantize the tangential components 2^N times more coarsely than the normal")
-      ->check(CLI::Range(0, 16))
-      ->capture_default_str();
+                 "local frames: quantize the tangential components 2^N times more coarsely than the normal; by default 2, "
+                 "or 1 where the remesh follows the input's feature lines (CAD parts) and its prefixes at 1-8 bits per "
+                 "input vertex decode closer to the input with it")
+      ->check(CLI::Range(0, 16));
   cmd.add_flag("--no-base-prediction", args.no_base_prediction,
                "code every bit plane of the base vertices in the embedded planes instead of their top planes "
                "predicted first (FORMAT.md 5.1; for rate-distortion experiments: more bits at every rate above "

@@ -292,9 +292,12 @@ class Sweep {
       return add(failed(base, "the mesh has no faces"));
 
     std::optional<SemiRegularMesh> semi_regular;
+    bool follows_features = false;  // RemeshResult::feature_vertices: choose_tangent_shift() applies
     std::string remesh_error;
     try {
-      semi_regular = remesh(reference.mesh, to_remesh_options(options_.remesh)).mesh;
+      RemeshResult remeshed = remesh(reference.mesh, to_remesh_options(options_.remesh));
+      follows_features = remeshed.feature_vertices > 0;
+      semi_regular = std::move(remeshed.mesh);
     } catch (const std::exception& e) {
       remesh_error = std::string("remesh: ") + e.what();
     }
@@ -310,7 +313,7 @@ class Sweep {
 
     if (semi_regular) {
       for (const std::string& scheme : options_.schemes)
-        if (!sweep_scheme(reference, base, *semi_regular, scheme)) return false;
+        if (!sweep_scheme(reference, base, *semi_regular, follows_features, scheme)) return false;
     } else {
       // Every meshlift row of this mesh fails for the same reason: one row says it.
       if (!add(failed(base, remesh_error))) return false;
@@ -321,13 +324,26 @@ class Sweep {
     return true;
   }
 
-  bool sweep_scheme(const Reference& reference, const Row& base, const SemiRegularMesh& mesh, const std::string& scheme) {
+  bool sweep_scheme(const Reference& reference, const Row& base, const SemiRegularMesh& mesh, bool follows_features,
+                    const std::string& scheme) {
     Row row = base;
     row.scheme = scheme;
     EncodeOptions encode_options;
     encode_options.scheme = parse_scheme(scheme);
     encode_options.precision_bits = options_.bits;
     apply_frame_options(options_.frames, encode_options);
+    if (options_.frames.tangent_shift < 0 && encode_options.local_frames && follows_features) {
+      // As `encode` chooses (choose_tangent_shift), by this sweep's metric.
+      try {
+        encode_options.tangent_shift = choose_tangent_shift(mesh, encode_options, base.input_vertices, [&](const TriangleMesh& m) {
+                                         Row measured;
+                                         measure(reference, m, options_, measured);
+                                         return measured.psnr_db;
+                                       }).shift;
+      } catch (const std::exception&) {
+        // The encode below fails the same way and says why in its rows.
+      }
+    }
     row.update = encode_options.mean_preserving_update && encode_options.scheme != Scheme::loop ? "1" : "0";
 
     // One encode at the highest rate; prefixes of it at each budget.

@@ -5,7 +5,10 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <string>
+
+#include "meshlift/codec.h"
 
 namespace meshlift::cli {
 
@@ -42,11 +45,19 @@ void register_rd(CLI::App& app, int& exit_code);
 void register_remesh(CLI::App& app, int& exit_code);
 void register_gim(CLI::App& app, int& exit_code);
 
+/// --tangent-shift when none is given: the library's default (EncodeOptions), 4x coarser tangents...
+inline constexpr int kDefaultTangentShift = 2;
+/// ... or, where the remesh follows the input's feature lines (RemeshResult::feature_vertices),
+/// this one if it measures closer to the input (choose_tangent_shift).
+inline constexpr int kCreaseTangentShift = 1;
+
 /// The codec options `encode` and `rd` share: --frames local|xyz, --tangent-shift N,
 /// --no-base-prediction.
 struct FrameArgs {
   std::string frames = "local";
-  int tangent_shift = 2;
+  /// kAutoTangentShift where --tangent-shift is not given: kDefaultTangentShift, or what
+  /// choose_tangent_shift() measures best where the remesh follows feature lines.
+  int tangent_shift = -1;
   bool no_base_prediction = false;
   bool update = true;  ///< EncodeOptions::mean_preserving_update
 };
@@ -56,10 +67,30 @@ void add_frame_options(CLI::App& cmd, FrameArgs& args);
 template <class Options>
 void apply_frame_options(const FrameArgs& args, Options& options) {
   options.local_frames = args.frames == "local";
-  options.tangent_shift = args.tangent_shift;
+  options.tangent_shift = args.tangent_shift < 0 ? kDefaultTangentShift : args.tangent_shift;
   options.predict_base = !args.no_base_prediction;
   options.mean_preserving_update = args.update;
 }
+
+/// The tangent shift to code `mesh` with where --tangent-shift is not given and the remesh follows
+/// the input's feature lines: kCreaseTangentShift if its stream's prefixes at kTangentChoiceBpv
+/// bits per input vertex decode closer to the input, by `psnr` (METRIC.md's PSNR against the
+/// input) summed over the rates, than kDefaultTangentShift's; else the default. Across a crease a
+/// tangential error cuts the corner, so CAD parts can pay for finer tangents where smooth surfaces
+/// do not: fandisk's BD-rate against Draco -63.8 -> -68.9 %, blade's -71.5 -> -70.7 % (so the
+/// choice is measured, not taken for every such part), the nine smooth meshes of the BD table
+/// within -0.6 to +0.3 points (docs/RESULTS.md, "Finer tangents where the remesh follows creases").
+/// `options` are the encode's, tangent_shift aside; two encodes and eight decodes.
+struct TangentChoice {
+  int shift = kDefaultTangentShift;
+  double default_db = 0, crease_db = 0;  ///< mean PSNR over the rates both decode at, per shift
+};
+TangentChoice choose_tangent_shift(const SemiRegularMesh& mesh, EncodeOptions options, std::size_t input_vertices,
+                                   const std::function<double(const TriangleMesh&)>& psnr);
+/// The rates (bits per input vertex) choose_tangent_shift() compares at: the steep part of the
+/// curves, where the two shifts part (fandisk 1.0-2.5 dB at 0.75-3 bpv; blade 0.7-1.9 dB the
+/// other way at 1-3); above ~8 bpv the remesh's own error dominates both.
+inline constexpr double kTangentChoiceBpv[] = {1, 2, 4, 8};
 
 /// Refuses (returns false and prints why) when `output` names the same file as `input`.
 bool check_distinct_output(const std::string& input, const std::string& output);
