@@ -227,12 +227,12 @@ std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh
       const TangentChoice choice = choose_tangent_shift(mesh, options, input.vertex_count(),
                                                         [&](const TriangleMesh& m) { return measure.quick_psnr(m); });
       options.tangent_shift = choice.shift;
+      const bool crease = choice.shift == kCreaseTangentShift;
       std::fprintf(stderr,
                    "%s: the remesh follows feature lines: tangent shift %d (prefixes at 1-8 bits per input vertex: "
                    "%.2f dB from the input on average, against %.2f with shift %d)\n",
-                   a.input.c_str(), choice.shift, choice.shift == kCreaseTangentShift ? choice.crease_db : choice.default_db,
-                   choice.shift == kCreaseTangentShift ? choice.default_db : choice.crease_db,
-                   choice.shift == kCreaseTangentShift ? kDefaultTangentShift : kCreaseTangentShift);
+                   a.input.c_str(), choice.shift, crease ? choice.crease_db : choice.default_db,
+                   crease ? choice.default_db : choice.crease_db, crease ? kDefaultTangentShift : kCreaseTangentShift);
     }
     out.file = encode(mesh, options);
   } catch (const MeshError& e) {

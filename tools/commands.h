@@ -45,8 +45,8 @@ void register_rd(CLI::App& app, int& exit_code);
 void register_remesh(CLI::App& app, int& exit_code);
 void register_gim(CLI::App& app, int& exit_code);
 
-/// --tangent-shift when none is given: the library's default (EncodeOptions), 4x coarser tangents...
-inline constexpr int kDefaultTangentShift = 2;
+/// --tangent-shift when none is given: the library's default, 4x coarser tangents (2) ...
+inline constexpr int kDefaultTangentShift = EncodeOptions{}.tangent_shift;
 /// ... or, where the remesh follows the input's feature lines (RemeshResult::feature_vertices),
 /// this one if it measures closer to the input (choose_tangent_shift).
 inline constexpr int kCreaseTangentShift = 1;
@@ -55,8 +55,8 @@ inline constexpr int kCreaseTangentShift = 1;
 /// --no-base-prediction.
 struct FrameArgs {
   std::string frames = "local";
-  /// kAutoTangentShift where --tangent-shift is not given: kDefaultTangentShift, or what
-  /// choose_tangent_shift() measures best where the remesh follows feature lines.
+  /// -1 where --tangent-shift is not given: kDefaultTangentShift, or what choose_tangent_shift()
+  /// measures closer where the remesh follows feature lines.
   int tangent_shift = -1;
   bool no_base_prediction = false;
   bool update = true;  ///< EncodeOptions::mean_preserving_update
@@ -77,9 +77,10 @@ void apply_frame_options(const FrameArgs& args, Options& options) {
 /// bits per input vertex decode closer to the input, by `psnr` (METRIC.md's PSNR against the
 /// input) summed over the rates, than kDefaultTangentShift's; else the default. Across a crease a
 /// tangential error cuts the corner, so CAD parts can pay for finer tangents where smooth surfaces
-/// do not: fandisk's BD-rate against Draco -63.8 -> -68.9 %, blade's -71.5 -> -70.7 % (so the
-/// choice is measured, not taken for every such part), the nine smooth meshes of the BD table
-/// within -0.6 to +0.3 points (docs/RESULTS.md, "Finer tangents where the remesh follows creases").
+/// do not: fandisk's BD-rate against Draco -63.8 -> -68.9 %, but blade's would go -71.5 -> -70.7 %
+/// (so the choice is measured, not taken for every such part), and the smooth meshes of the BD
+/// table would move by -0.6 to +0.3 points (docs/RESULTS.md, "Finer tangents where the remesh
+/// follows creases").
 /// `options` are the encode's, tangent_shift aside; two encodes and eight decodes.
 struct TangentChoice {
   int shift = kDefaultTangentShift;
