@@ -2,12 +2,12 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "cli_run.h"
+#include "test_meshes.h"
 
 namespace fs = std::filesystem;
 
@@ -226,8 +226,6 @@ TEST_CASE("encode measures finer tangents where the remesh follows feature lines
   // on blade those at the default shift 2 do (docs/RESULTS.md, "Finer tangents where the remesh
   // follows creases"). A smooth mesh is not measured, and a --tangent-shift given is kept.
   const fs::path dir = meshlift::test::cli_scratch("encode_cli_tangents");
-  const char* corpus = std::getenv("MESHLIFT_CORPUS");
-  if (corpus == nullptr || *corpus == '\0') FAIL("MESHLIFT_CORPUS is not set (scripts/corpus.sh prints it)");
   // Encodes `input` with `options`; returns the chosen shift's line (empty if none) and the
   // tangent step the file's header holds, as `info` prints it.
   auto encode = [&](const std::string& input, const std::string& options) {
@@ -248,7 +246,7 @@ TEST_CASE("encode measures finer tangents where the remesh follows feature lines
     const auto a = line.find("vertex: ") + 8, b = line.find("against ") + 8;
     return std::stod(line.substr(a)) >= std::stod(line.substr(b));
   };
-  const std::string fandisk = std::string(corpus) + "/fandisk.off", blade = std::string(corpus) + "/blade.off";
+  const std::string fandisk = meshlift::test::corpus_mesh_path("fandisk"), blade = meshlift::test::corpus_mesh_path("blade");
   {
     const auto [line, shift] = encode(fandisk, "");
     INFO(line);
