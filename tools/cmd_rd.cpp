@@ -59,11 +59,14 @@ struct Row {
   /// meshlift rows: "1" where the stream has the mean-preserving update (header flag bit 0:
   /// linear and butterfly unless --no-update), else "0"; empty for Draco's.
   std::string update;
+  /// meshlift rows with local frames: the tangent shift coded (--tangent-shift, or
+  /// choose_tangent_shift()'s where the remesh follows feature lines); empty otherwise.
+  std::string tangent_shift;
 };
 
 constexpr const char* kColumns =
     "mesh,input_vertices,codec,scheme,kind,param,bytes,bpv,psnr_db,rms_rel,hausdorff_rel,encode_s,decode_s,"
-    "peak_rss_mb,error,update";
+    "peak_rss_mb,error,update,tangent_shift";
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -105,7 +108,7 @@ bool write_tables(const std::string& dir, const std::vector<Row>& rows, std::str
     csv << csv_field(r.mesh) << "," << r.input_vertices << "," << r.codec << "," << r.scheme << "," << r.kind << ","
         << r.param;
     for (const auto& n : numbers) csv << "," << n;
-    csv << "," << csv_field(r.error) << "," << r.update << "\n";
+    csv << "," << csv_field(r.error) << "," << r.update << "," << r.tangent_shift << "\n";
     json << "  {\"mesh\": " << json_string(r.mesh) << ", \"input_vertices\": " << r.input_vertices
          << ", \"codec\": " << json_string(r.codec) << ", \"scheme\": " << json_string(r.scheme)
          << ", \"kind\": " << json_string(r.kind) << ", \"param\": " << (r.param.empty() ? std::string("null") : r.param)
@@ -114,7 +117,8 @@ bool write_tables(const std::string& dir, const std::vector<Row>& rows, std::str
          << ", \"hausdorff_rel\": " << json_number(r.hausdorff_rel) << ", \"encode_s\": " << json_number(r.encode_s)
          << ", \"decode_s\": " << json_number(r.decode_s) << ", \"peak_rss_mb\": " << json_number(r.peak_rss_mb)
          << ", \"error\": " << json_string(r.error)
-         << ", \"update\": " << (r.update.empty() ? std::string("null") : r.update == "1" ? "true" : "false") << "}"
+         << ", \"update\": " << (r.update.empty() ? std::string("null") : r.update == "1" ? "true" : "false")
+         << ", \"tangent_shift\": " << (r.tangent_shift.empty() ? std::string("null") : r.tangent_shift) << "}"
          << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   json << "]\n";
@@ -345,6 +349,7 @@ class Sweep {
       }
     }
     row.update = encode_options.mean_preserving_update && encode_options.scheme != Scheme::loop ? "1" : "0";
+    row.tangent_shift = encode_options.local_frames ? std::to_string(encode_options.tangent_shift) : "";
 
     // One encode at the highest rate; prefixes of it at each budget.
     std::vector<std::uint8_t> file;

@@ -182,7 +182,7 @@ TEST_CASE("rd writes a row per scheme and budget with PSNR rising along the pref
   REQUIRE(fs::exists(out / "rd.json"));
   CHECK(slurp(out / "rd.csv").rfind(
             "mesh,input_vertices,codec,scheme,kind,param,bytes,bpv,psnr_db,rms_rel,hausdorff_rel,encode_s,decode_s,"
-            "peak_rss_mb,error,update\n", 0) == 0);
+            "peak_rss_mb,error,update,tangent_shift\n", 0) == 0);
   const auto rows = read_csv(out / "rd.csv");
   const bool draco = std::system("command -v draco_encoder > /dev/null && command -v draco_decoder > /dev/null") == 0;
 
@@ -205,6 +205,8 @@ TEST_CASE("rd writes a row per scheme and budget with PSNR rising along the pref
     CHECK(std::abs(bpv - 8 * bytes / 1026) < 1e-3);
     // The update step is the default for linear; Loop has its own; Draco's rows have none.
     CHECK(row.at("update") == (row.at("codec") == "draco" ? "" : row.at("scheme") == "linear" ? "1" : "0"));
+    // Local frames with the default shift (a semi-regular input follows no feature line); none for Draco.
+    CHECK(row.at("tangent_shift") == (row.at("codec") == "draco" ? "" : "2"));
     CHECK(std::stod(row.at("peak_rss_mb")) > 0);
     CHECK(std::stod(row.at("hausdorff_rel")) >= std::stod(row.at("rms_rel")));
     if (row.at("kind") == "prefix") {
