@@ -392,10 +392,10 @@ const std::vector<std::pair<int, int>>& direct_search_grid() {
 
 UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, const UntangleOptions& options) {
   if (options.first_rings < 1 || options.max_rings < options.first_rings || options.passes < 0 || options.vertex_passes < 0 ||
-      options.rounds < 1 || options.relaxation_steps < 0)
+      options.rounds < 1 || options.relaxation_steps < 0 || !(options.max_patch_queries_per_face > 0))
     throw std::invalid_argument(
         "untangle: first_rings >= 1, max_rings >= first_rings, passes >= 0, vertex_passes >= 0, rounds >= 1, "
-        "relaxation_steps >= 0");
+        "relaxation_steps >= 0, max_patch_queries_per_face > 0");
   UntangleReport report;
   const SemiRegularHierarchy& h = mesh.hierarchy;
   const std::vector<std::uint32_t>& triangles = h.triangles(h.levels());
@@ -428,6 +428,11 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   auto face_folds = [&](std::size_t f, std::uint32_t* hint = nullptr) {
     return is_folded(x, &triangles[3 * f], surface, diagonal, hint);
   };
+  // The patch passes' fold tests and closest-point queries, against their budget
+  // (UntangleOptions::max_patch_queries_per_face).
+  const double patch_budget = options.max_patch_queries_per_face * static_cast<double>(faces);
+  double patch_queries = 0;
+  auto patch_budget_spent = [&] { return report.patch_budget_spent = report.patch_budget_spent || patch_queries > patch_budget; };
   // Per face, the input face closest to its centroid where known (kNone: not yet), as of the
   // epoch in centroid_epoch (below): the patches' planes read it for the same faces again and again.
   std::vector<std::uint32_t> centroid_face(faces, kNone);
@@ -474,7 +479,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
     for (int pass = 0; pass < options.passes; ++pass) {
       std::size_t kept_this_pass = 0;
       std::vector<std::uint8_t> seen(faces, 0);
-      for (std::size_t seed = 0; seed < faces; ++seed) {
+      for (std::size_t seed = 0; seed < faces && !patch_budget_spent(); ++seed) {
         if (!folded[seed] || seen[seed]) continue;
         // The patch: folded faces connected to `seed` through shared vertices.
         std::vector<std::uint32_t> patch{static_cast<std::uint32_t>(seed)};
@@ -533,7 +538,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
           for (std::uint32_t f : region) {
             const std::uint32_t* t = &triangles[3 * std::size_t{f}];
             if (centroid_face[f] == kNone || std::max({moved_at[t[0]], moved_at[t[1]], moved_at[t[2]]}) > centroid_epoch[f])
-              centroid_face[f] = surface.closest(centroid(f), hint).face, centroid_epoch[f] = epoch;
+              centroid_face[f] = surface.closest(centroid(f), hint).face, centroid_epoch[f] = epoch, ++patch_queries;
             hint = centroid_face[f];
             const Vec m = input_normal(hint);
             for (int c = 0; c < 3; ++c) normal[c] += m[c];
@@ -592,6 +597,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
                     mean[c] += (local[w] != kNone ? relaxed[3 * local[w] + c] : x[3 * w + c]) / (end - first);
                 }
                 const SurfacePoint on = surface.closest(mean, hint);
+                ++patch_queries;
                 hint = on.face;
                 for (int c = 0; c < 3; ++c) next[3 * i + c] = on.point[c];
               }
@@ -620,6 +626,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
                     best = hit;
                 }
                 if (best.face == kNone) best = surface.closest(p, hint);
+                patch_queries += 3;  // two rays and a closest point at most
                 hint = best.face;
                 for (int c = 0; c < 3; ++c) x[3 * v + c] = best.point[c];
               }
@@ -633,7 +640,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
             for (std::size_t i = 0; i < region.size() && after < before; ++i) {
               const std::uint32_t* t = &triangles[3 * std::size_t{region[i]}];
               const bool moved = local[t[0]] != kNone || local[t[1]] != kNone || local[t[2]] != kNone;
-              now[i] = moved ? face_folds(region[i], &hint) : folded[region[i]];
+              now[i] = moved ? (++patch_queries, face_folds(region[i], &hint)) : folded[region[i]];
               after += now[i];
             }
             ++report.patches_tried;
@@ -653,7 +660,7 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
         if (kept) failed_patches.erase(seed_face);
         else failed_patches[seed_face] = FailedPatch{std::move(patch), std::move(read), epoch};
       }
-      if (kept_this_pass == 0) break;
+      if (kept_this_pass == 0 || patch_budget_spent()) break;
     }
   };
 

@@ -197,6 +197,48 @@ TEST_CASE("Untangling rejects options out of range", "[remesh][untangle]") {
   options = {};
   options.relaxation_steps = -1;
   CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
+  for (double budget : {0.0, -1.0, std::nan("")}) {
+    options = {};
+    options.max_patch_queries_per_face = budget;
+    CHECK_THROWS_AS(untangle(mesh, sphere, options), std::invalid_argument);
+  }
+}
+
+TEST_CASE("The patch passes stop at their budget of queries per face, and the vertex passes still run",
+          "[remesh][untangle]") {
+  // Two pleats, as above: the default budget (16 queries a face) is far from spent on them, and
+  // the patches alone untangle them. A budget that the first patch already spends stops the
+  // patch passes after it (the check is made before each patch), so at most one patch is tried
+  // in all; the vertex passes still run, and what they leave is not more than before.
+  const SurfaceQuery sphere(test::icosphere(5));
+  SemiRegularMesh pleated = test::sphere_refinement(3);
+  const std::vector<std::uint32_t>& t = pleated.hierarchy.triangles(3);
+  for (int c = 0; c < 3; ++c) {
+    pleated.positions[3 * t[3 * 100] + c] += 1.8 * (pleated.positions[3 * t[3 * 100 + 1] + c] - pleated.positions[3 * t[3 * 100] + c]);
+    std::swap(pleated.positions[3 * t[3 * 900] + c], pleated.positions[3 * t[3 * 900 + 1] + c]);
+  }
+  UntangleOptions patches_only;
+  patches_only.vertex_passes = 0;
+  SemiRegularMesh mesh = pleated;
+  const UntangleReport plenty = untangle(mesh, sphere, patches_only);
+  CHECK_FALSE(plenty.patch_budget_spent);
+  CHECK(plenty.folded_after == 0);
+  CHECK(plenty.patches_kept >= 2);
+
+  UntangleOptions tight = patches_only;
+  tight.max_patch_queries_per_face = 1e-6;  // spent by the first patch's first fold tests
+  mesh = pleated;
+  const UntangleReport stopped = untangle(mesh, sphere, tight);
+  CHECK(stopped.patch_budget_spent);
+  CHECK(stopped.patches_tried <= 35);  // one patch: 5 region sizes of 7 tries at most
+  CHECK(stopped.folded_after > 0);   // the other pleat's patch never tried
+
+  tight.vertex_passes = UntangleOptions{}.vertex_passes;
+  mesh = pleated;
+  const UntangleReport with_vertices = untangle(mesh, sphere, tight);
+  CHECK(with_vertices.patch_budget_spent);
+  CHECK(with_vertices.folded_after <= stopped.folded_after);
+  CHECK(folds(mesh, sphere) == with_vertices.folded_after);
 }
 
 TEST_CASE("search_unfolded unfolds a face by moving the vertices around it, in floats, the same every time", "[remesh][untangle]") {

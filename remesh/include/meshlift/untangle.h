@@ -50,6 +50,13 @@ struct UntangleOptions {
   /// alone), cow 27 (52), turbine 20 (63), mannequin-devil 27 (78); three rounds 9, 16, 19, 21;
   /// eight as three.
   int rounds = 3;
+  /// The most fold tests and closest-point queries the patch passes may make, per face of the
+  /// mesh (> 0), over all rounds: where the budget runs out they stop, and the vertex passes
+  /// still run. The development meshes' remeshes make at most ~2 a face; an input that is
+  /// crumpled all over (every coordinate of a grid moved by more than its spacing: half the
+  /// remesh's faces folded, and each query visits many nearby sheets) made 30-90 in each of many
+  /// calls and kept a 676-vertex remesh running for over an hour. This bounds it.
+  double max_patch_queries_per_face = 16;
   /// Per vertex of the finest level, or empty: 1 where the vertex stays (on a feature line,
   /// features.h), as the mesh's boundary vertices do.
   std::span<const std::uint8_t> fixed;
@@ -59,6 +66,7 @@ struct UntangleReport {
   std::size_t folded_before = 0, folded_after = 0;
   std::size_t patches_tried = 0, patches_kept = 0;
   std::size_t vertices_moved = 0;  ///< moves kept by the per-vertex untangling, over all passes
+  bool patch_budget_spent = false;  ///< the patch passes stopped at max_patch_queries_per_face
 };
 
 /// Untangles the finest level of `mesh` (all its vertices may move, boundary vertices of the
