@@ -52,10 +52,11 @@ struct UntangleOptions {
   int rounds = 3;
   /// The most fold tests and closest-point queries the patch passes may make, per face of the
   /// mesh (> 0), over all rounds: where the budget runs out they stop, and the vertex passes
-  /// still run. The development meshes' remeshes make at most ~2 a face; an input that is
-  /// crumpled all over (every coordinate of a grid moved by more than its spacing: half the
-  /// remesh's faces folded, and each query visits many nearby sheets) made 30-90 in each of many
-  /// calls and kept a 676-vertex remesh running for over an hour. This bounds it.
+  /// still run. The development meshes' remeshes make at most 1.7 fold tests a face (and never
+  /// reach the budget: their remeshes are the same with it); an input that is crumpled all over
+  /// (every coordinate of a grid moved by more than its spacing: half the remesh's faces folded,
+  /// and each query visits many nearby sheets) made 30-90 in each of many calls and kept a
+  /// 676-vertex remesh running for over an hour. This bounds it (docs/RESULTS.md).
   double max_patch_queries_per_face = 16;
   /// Per vertex of the finest level, or empty: 1 where the vertex stays (on a feature line,
   /// features.h), as the mesh's boundary vertices do.
