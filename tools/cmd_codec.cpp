@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <iostream>
 #include <limits>
@@ -72,6 +73,19 @@ class ReferenceSurface {
   std::optional<SampledSurface> sparse_;
 };
 
+/// `measure` of the decode of the first `bytes` bytes of `file`; -infinity where that prefix does
+/// not decode (a cut inside the header or the base mesh).
+double prefix_psnr(const std::vector<std::uint8_t>& file, std::size_t bytes,
+                   const std::function<double(const TriangleMesh&)>& measure) {
+  DecodeOptions o;
+  o.max_bytes = bytes;
+  const DecodeResult r = decode(file, o);
+  return r.status == Status::ok ? measure(r.mesh) : -std::numeric_limits<double>::infinity();
+}
+
+/// The faces of `mesh`'s finest level: what a ReferenceSurface is prepared for.
+std::size_t finest_faces(const SemiRegularMesh& mesh) { return mesh.hierarchy.triangles(mesh.hierarchy.levels()).size() / 3; }
+
 /// Where `encode --psnr` cut the stream, and how close that prefix's decode is to the input.
 struct PsnrCut {
   std::size_t bytes = 0;
@@ -91,11 +105,7 @@ struct PsnrCut {
 /// reaches the target (its PSNR is then the closest the stream comes).
 PsnrCut cut_for_psnr(const std::vector<std::uint8_t>& file, const ReferenceSurface& reference, double target_db) {
   auto psnr_at = [&](std::size_t bytes, bool quick) {
-    DecodeOptions o;
-    o.max_bytes = bytes;
-    const DecodeResult r = decode(file, o);
-    if (r.status != Status::ok) return -std::numeric_limits<double>::infinity();
-    return quick ? reference.quick_psnr(r.mesh) : reference.psnr(r.mesh);
+    return prefix_psnr(file, bytes, [&](const TriangleMesh& m) { return quick ? reference.quick_psnr(m) : reference.psnr(m); });
   };
   const PsnrCut whole{file.size(), psnr_at(file.size(), false), true};
   if (!(whole.psnr_db >= target_db)) return {whole.bytes, whole.psnr_db, false};
@@ -222,17 +232,15 @@ std::optional<Encoded> encode_for_cli(const EncodeArgs& a, SemiRegularMesh& mesh
       // shifts part by ~1 dB on fandisk and blade; a large mesh's full count would cost more than
       // its encodes), or the same one made here.
       std::optional<ReferenceSurface> own;
-      if (reference == nullptr) own.emplace(input, mesh.hierarchy.triangles(mesh.hierarchy.levels()).size() / 3, true);
+      if (reference == nullptr) own.emplace(input, finest_faces(mesh), true);
       const ReferenceSurface& measure = reference != nullptr ? *reference : *own;
       const TangentChoice choice = choose_tangent_shift(mesh, options, input.vertex_count(),
                                                         [&](const TriangleMesh& m) { return measure.quick_psnr(m); });
       options.tangent_shift = choice.shift;
-      const bool crease = choice.shift == kCreaseTangentShift;
       std::fprintf(stderr,
                    "%s: the remesh follows feature lines: tangent shift %d (prefixes at 1-8 bits per input vertex: "
                    "%.2f dB from the input on average, against %.2f with shift %d)\n",
-                   a.input.c_str(), choice.shift, crease ? choice.crease_db : choice.default_db,
-                   crease ? choice.default_db : choice.crease_db, crease ? kDefaultTangentShift : kCreaseTangentShift);
+                   a.input.c_str(), choice.shift, choice.db, choice.other_db, choice.other_shift);
     }
     out.file = encode(mesh, options);
   } catch (const MeshError& e) {
@@ -282,8 +290,7 @@ int run_encode(const EncodeArgs& a) {
   const std::size_t vertices = input.vertex_count();
   // With --psnr, the input prepared for the metric of meshes of `remesh`'s faces.
   auto reference_for = [&](const RemeshResult& remesh) {
-    const SemiRegularHierarchy& h = remesh.mesh.hierarchy;
-    return a.psnr > 0 ? std::make_optional<ReferenceSurface>(input, h.triangles(h.levels()).size() / 3, true) : std::nullopt;
+    return a.psnr > 0 ? std::make_optional<ReferenceSurface>(input, finest_faces(remesh.mesh), true) : std::nullopt;
   };
   std::optional<ReferenceSurface> reference = reference_for(*remeshed);
   std::optional<Encoded> encoded =
@@ -591,27 +598,22 @@ TangentChoice choose_tangent_shift(const SemiRegularMesh& mesh, EncodeOptions op
   for (int k = 0; k < 2; ++k) {
     options.tangent_shift = kShifts[k];
     const std::vector<std::uint8_t> file = encode(mesh, options);
-    for (std::size_t r = 0; r < kRates; ++r) {
-      DecodeOptions cut;
-      cut.max_bytes = static_cast<std::size_t>(std::ceil(kTangentChoiceBpv[r] * static_cast<double>(input_vertices) / 8));
-      const DecodeResult decoded = decode(file, cut);
-      psnr_at[k][r] = decoded.status == Status::ok ? psnr(decoded.mesh) : -std::numeric_limits<double>::infinity();
-    }
+    for (std::size_t r = 0; r < kRates; ++r)
+      psnr_at[k][r] = prefix_psnr(
+          file, static_cast<std::size_t>(std::ceil(kTangentChoiceBpv[r] * static_cast<double>(input_vertices) / 8)), psnr);
   }
-  // Summed over the rates both decode at (a cut inside the header and base decodes at neither:
+  // Means over the rates both decode at (a cut inside the header and base decodes at neither:
   // the shift changes nothing there).
-  double sum[2] = {0, 0};
+  double mean[2] = {0, 0};
   int rates = 0;
   for (std::size_t r = 0; r < kRates; ++r)
     if (std::isfinite(psnr_at[0][r]) && std::isfinite(psnr_at[1][r])) {
-      for (int k = 0; k < 2; ++k) sum[k] += psnr_at[k][r];
+      for (int k = 0; k < 2; ++k) mean[k] += psnr_at[k][r];
       ++rates;
     }
-  TangentChoice choice;
-  choice.shift = sum[1] > sum[0] ? kCreaseTangentShift : kDefaultTangentShift;  // a tie keeps the default
-  choice.default_db = rates > 0 ? sum[0] / rates : 0;
-  choice.crease_db = rates > 0 ? sum[1] / rates : 0;
-  return choice;
+  for (double& m : mean) m = rates > 0 ? m / rates : 0;
+  const int chosen = mean[1] > mean[0] ? 1 : 0;  // a tie keeps the default
+  return {kShifts[chosen], mean[chosen], kShifts[1 - chosen], mean[1 - chosen]};
 }
 
 void add_frame_options(CLI::App& cmd, FrameArgs& args) {

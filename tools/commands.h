@@ -72,20 +72,24 @@ void apply_frame_options(const FrameArgs& args, Options& options) {
   options.mean_preserving_update = args.update;
 }
 
+/// What choose_tangent_shift() chose, with the mean PSNR of the prefixes it measured (over the
+/// rates both shifts decode at) for it and for the other shift.
+struct TangentChoice {
+  int shift = kDefaultTangentShift;
+  double db = 0;
+  int other_shift = kCreaseTangentShift;
+  double other_db = 0;
+};
 /// The tangent shift to code `mesh` with where --tangent-shift is not given and the remesh follows
 /// the input's feature lines: kCreaseTangentShift if its stream's prefixes at kTangentChoiceBpv
 /// bits per input vertex decode closer to the input, by `psnr` (METRIC.md's PSNR against the
-/// input) summed over the rates, than kDefaultTangentShift's; else the default. Across a crease a
-/// tangential error cuts the corner, so CAD parts can pay for finer tangents where smooth surfaces
-/// do not: fandisk's BD-rate against Draco -63.8 -> -68.9 %, but blade's would go -71.5 -> -70.7 %
-/// (so the choice is measured, not taken for every such part), and the smooth meshes of the BD
-/// table would move by -0.6 to +0.3 points (docs/RESULTS.md, "Finer tangents where the remesh
-/// follows creases").
-/// `options` are the encode's, tangent_shift aside; two encodes and eight decodes.
-struct TangentChoice {
-  int shift = kDefaultTangentShift;
-  double default_db = 0, crease_db = 0;  ///< mean PSNR over the rates both decode at, per shift
-};
+/// input) averaged over the rates, than kDefaultTangentShift's; else the default. Across a crease
+/// a tangential error cuts the corner, so CAD parts can pay for finer tangents where smooth
+/// surfaces do not: fandisk's BD-rate against Draco -63.8 -> -68.9 %, but blade's would go -71.5
+/// -> -70.7 % (so the choice is measured, not taken for every such part), and the smooth meshes
+/// of the BD table would move by -0.6 to +0.3 points (docs/RESULTS.md, "Finer tangents where the
+/// remesh follows creases"). `options` are the encode's, tangent_shift aside; two encodes and
+/// eight decodes.
 TangentChoice choose_tangent_shift(const SemiRegularMesh& mesh, EncodeOptions options, std::size_t input_vertices,
                                    const std::function<double(const TriangleMesh&)>& psnr);
 /// The rates (bits per input vertex) choose_tangent_shift() compares at: the steep part of the
