@@ -432,7 +432,10 @@ UntangleReport untangle(SemiRegularMesh& mesh, const SurfaceQuery& surface, cons
   // (UntangleOptions::max_patch_queries_per_face).
   const double patch_budget = options.max_patch_queries_per_face * static_cast<double>(faces);
   double patch_queries = 0;
-  auto patch_budget_spent = [&] { return report.patch_budget_spent = report.patch_budget_spent || patch_queries > patch_budget; };
+  auto patch_budget_spent = [&] {
+    if (patch_queries > patch_budget) report.patch_budget_spent = true;
+    return report.patch_budget_spent;
+  };
   // Per face, the input face closest to its centroid where known (kNone: not yet), as of the
   // epoch in centroid_epoch (below): the patches' planes read it for the same faces again and again.
   std::vector<std::uint32_t> centroid_face(faces, kNone);
